@@ -1,0 +1,413 @@
+/*
+ * atmo.h — the stable C ABI of the Atmo atmosphere plugin (libatmo.so).
+ *
+ * Atmo draws the sky, aerial perspective, clouds, night sky and light glows
+ * into the host's own OpenGL context. This header is all a host needs: it is
+ * valid C99, C11 and C++ (tested), and depends on <stdint.h>/<stddef.h> only.
+ *
+ * LIFECYCLE
+ *   1. dlopen("libatmo.so"), dlsym("atmo_negotiate") — the only exported symbol.
+ *   2. atmo_negotiate(&host_info, &api): agree on an interface version, receive
+ *      a size-prefixed table of function pointers (AtmoPluginApi).
+ *   3. api.create_context(&create_info, &ctx)      one per world / atmosphere state
+ *      api.gl_init(ctx)                            with the host's GL context current
+ *      api.create_view(ctx, &view_info, &view)     one per channel / eye
+ *   4. Each frame: api.set_frame(ctx, &frame); api.set_view(view, &view_state);
+ *      api.render_pass(view, &pass) for each pass, where it belongs in the
+ *      host's pipeline (sky, opaques, aerial perspective, clouds, ...).
+ *   5. api.destroy_view(view); api.gl_shutdown(ctx); api.destroy_context(ctx).
+ *      If the GL context was lost, call api.gl_context_lost(ctx) instead of
+ *      gl_shutdown; gl_init may then be called again on a new context.
+ *
+ * THREAD RULES (each function's comment ends with its rule in brackets)
+ *   [any-thread]       may be called from any thread.
+ *   [ctx-sync]         calls on one context (and its views) must not overlap;
+ *                      the host serialises them. Different contexts are independent.
+ *   [gl-current]       the host's GL context that gl_init saw (or a context
+ *                      sharing objects with it) must be current on the calling thread.
+ *   [no-gl]            touches no GL; no context needs to be current.
+ *
+ * UNITS: SI everywhere. Lengths in metres, time in seconds, angles in radians
+ * except geodetic latitude/longitude, which are degrees (the edge convention of
+ * GPS, CIGI and GeographicLib). Luminance in cd/m^2, illuminance in lux.
+ *
+ * GL STATE CONTRACT: on return from every function, all GL state the plugin
+ * touched is as the host left it (program, VAO, buffer and texture bindings on
+ * every unit it used, active texture unit, framebuffer bindings, viewport,
+ * scissor, depth/blend/cull/stencil state, colour and depth masks, ...).
+ * Core and compatibility profiles (3.3 or later) both work.
+ *
+ * VERSIONED STRUCTS: every struct that crosses the ABI begins with an
+ * AtmoStructHeader {type, struct_size, next}. A struct may grow at its end in
+ * later versions: the plugin reads min(struct_size, its own size) bytes and
+ * zero-fills the rest, so every field's zero value is a documented default.
+ * A struct_size smaller than the version-1 size is rejected with
+ * ATMO_ERROR_STRUCT_TOO_SMALL. `next` chains extension structs; entries whose
+ * type the plugin does not know are skipped.
+ *
+ * RESULTS: 0 is success, > 0 a status (success with a remark), < 0 an error.
+ * api.result_string(code) names any code; api.last_error(ctx) gives the last
+ * detailed message (what went wrong and where). No C++ exception crosses the ABI.
+ */
+#ifndef ATMO_ATMO_H
+#define ATMO_ATMO_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------------ */
+/* Versions                                                                  */
+/* ------------------------------------------------------------------------ */
+
+/* Interface versions are integers; the plugin implements a contiguous range. */
+#define ATMO_INTERFACE_VERSION_1 1u
+#define ATMO_INTERFACE_VERSION_CURRENT ATMO_INTERFACE_VERSION_1
+
+#define ATMO_NEGOTIATE_SYMBOL "atmo_negotiate"
+
+/* ------------------------------------------------------------------------ */
+/* Results                                                                   */
+/* ------------------------------------------------------------------------ */
+
+typedef int32_t AtmoResult;
+
+enum {
+  ATMO_SUCCESS = 0,
+  /* Statuses (> 0): the call succeeded. */
+  ATMO_STATUS_NOTHING_TO_DRAW = 1, /* the pass had nothing visible; it cost nothing */
+  ATMO_STATUS_NOT_YET_SUPPORTED = 2, /* accepted, but the feature is not implemented in this build */
+  /* Errors (< 0): the call did nothing, state is unchanged. */
+  ATMO_ERROR_INVALID_ARGUMENT = -1,      /* NULL where a pointer is required, bad enum, ... */
+  ATMO_ERROR_INCOMPATIBLE_VERSION = -2,  /* no interface version in the host's range */
+  ATMO_ERROR_STRUCT_TOO_SMALL = -3,      /* struct_size below the version-1 size */
+  ATMO_ERROR_WRONG_STRUCT_TYPE = -4,     /* header.type is not the expected tag */
+  ATMO_ERROR_NON_FINITE_VALUE = -5,      /* NaN or Inf in a field that must be finite */
+  ATMO_ERROR_OUT_OF_RANGE = -6,          /* a finite value outside its documented range */
+  ATMO_ERROR_CALL_OUT_OF_ORDER = -7,     /* e.g. render_pass before gl_init or set_view */
+  ATMO_ERROR_GL = -8,                    /* GL loading, shader compile or a GL error */
+  ATMO_ERROR_OUT_OF_MEMORY = -9,
+  ATMO_ERROR_IO = -10,                   /* a file could not be opened or read */
+  ATMO_ERROR_INVALID_HANDLE = -11,       /* a handle not made by this plugin, or destroyed */
+  ATMO_ERROR_INTERNAL = -12              /* a bug in the plugin; the message says where */
+};
+
+/* ------------------------------------------------------------------------ */
+/* Struct header and type tags                                               */
+/* ------------------------------------------------------------------------ */
+
+typedef enum AtmoStructType {
+  ATMO_TYPE_NONE = 0,
+  ATMO_TYPE_NEGOTIATE_INFO = 0x41540001,
+  ATMO_TYPE_PLUGIN_API = 0x41540002,
+  ATMO_TYPE_HOST_SERVICES = 0x41540003,
+  ATMO_TYPE_CONTEXT_CREATE_INFO = 0x41540004,
+  ATMO_TYPE_VIEW_CREATE_INFO = 0x41540005,
+  ATMO_TYPE_ATMOSPHERE_STATE = 0x41540006,
+  ATMO_TYPE_FRAME_STATE = 0x41540007,
+  ATMO_TYPE_VIEW_STATE = 0x41540008,
+  ATMO_TYPE_PASS_INFO = 0x41540009,
+  ATMO_TYPE_LIGHTING = 0x4154000A,
+  ATMO_TYPE_MAX_ENUM = 0x7fffffff
+} AtmoStructType;
+
+typedef struct AtmoStructHeader {
+  uint32_t type;        /* an AtmoStructType */
+  uint32_t struct_size; /* sizeof the struct as the caller compiled it */
+  const void* next;     /* chain of extension structs, each starting with a header; may be NULL */
+} AtmoStructHeader;
+
+/* Fills a header; use as `AtmoFrameState f = {ATMO_HEADER(ATMO_TYPE_FRAME_STATE, AtmoFrameState)};`. */
+#define ATMO_HEADER(type_tag, struct_type) \
+  { (uint32_t)(type_tag), (uint32_t)sizeof(struct_type), NULL }
+
+/* ------------------------------------------------------------------------ */
+/* Opaque handles                                                            */
+/* ------------------------------------------------------------------------ */
+
+typedef struct AtmoContext_T* AtmoContext; /* one world / atmosphere state */
+typedef struct AtmoView_T* AtmoView;       /* one channel or eye of a context */
+
+/* ------------------------------------------------------------------------ */
+/* Host services — every member may be NULL; the fallback is documented.    */
+/* ------------------------------------------------------------------------ */
+
+typedef enum AtmoLogSeverity {
+  ATMO_LOG_DEBUG = 0,
+  ATMO_LOG_INFO = 1,
+  ATMO_LOG_WARNING = 2,
+  ATMO_LOG_ERROR = 3,
+  ATMO_LOG_HOST_MISBEHAVING = 4 /* the host broke a documented rule */
+} AtmoLogSeverity;
+
+typedef void* (*AtmoGlProcLoader)(void* user, const char* name);
+
+typedef struct AtmoHostServices {
+  AtmoStructHeader header; /* ATMO_TYPE_HOST_SERVICES */
+  void* user;              /* passed back as the first argument of every service */
+
+  /* Log sink. Fallback: warnings and errors go to stderr, prefixed "[atmo]".
+     May be called from any thread the plugin is called on. */
+  void (*log)(void* user, int32_t severity, const char* message);
+
+  /* Allocator for the plugin's objects and large buffers (lookup tables,
+     volumes). alignment is a power of two. Fallback: aligned_alloc/free.
+     Small transient C++ allocations inside a call use the C++ heap. */
+  void* (*allocate)(void* user, size_t size, size_t alignment);
+  void (*deallocate)(void* user, void* pointer);
+
+  /* File access, so a host can relocate or package assets. open returns a
+     non-NULL handle or NULL; read returns bytes read (0 at end, < 0 on error).
+     Paths are UTF-8, relative ones resolve against AtmoContextCreateInfo.asset_root.
+     Fallback: the C standard library's fopen/fread/fclose. */
+  void* (*file_open)(void* user, const char* path);
+  int64_t (*file_read)(void* user, void* file, void* buffer, uint64_t size);
+  void (*file_close)(void* user, void* file);
+
+  /* GL entry-point loader (eglGetProcAddress, glfwGetProcAddress, ...). The
+     plugin links no libGL/libEGL. Fallback: eglGetProcAddress, then
+     glXGetProcAddressARB, looked up in the libraries the process has already
+     loaded; gl_init fails with ATMO_ERROR_GL if neither is there. */
+  AtmoGlProcLoader gl_get_proc_address;
+} AtmoHostServices;
+
+/* ------------------------------------------------------------------------ */
+/* Context and view creation                                                 */
+/* ------------------------------------------------------------------------ */
+
+typedef struct AtmoContextCreateInfo {
+  AtmoStructHeader header;        /* ATMO_TYPE_CONTEXT_CREATE_INFO */
+  const AtmoHostServices* services; /* may be NULL: all fallbacks. Copied; need not outlive the call. */
+  const char* asset_root;         /* UTF-8 directory for plugin data files; NULL: next to libatmo.so */
+  const char* application_name;   /* for logs; may be NULL */
+  uint64_t seed;                  /* seed of every random stream (clouds, scintillation); 0 is a valid seed */
+} AtmoContextCreateInfo;
+
+typedef struct AtmoViewCreateInfo {
+  AtmoStructHeader header; /* ATMO_TYPE_VIEW_CREATE_INFO */
+  uint32_t channel_id;     /* host's channel / eye number, for logs and per-channel caches */
+  uint32_t reserved;
+} AtmoViewCreateInfo;
+
+/* ------------------------------------------------------------------------ */
+/* World state                                                               */
+/* ------------------------------------------------------------------------ */
+
+/* The air. Zero fields take the defaults given. */
+typedef struct AtmoAtmosphereState {
+  AtmoStructHeader header;   /* ATMO_TYPE_ATMOSPHERE_STATE */
+  /* Meteorological optical range (MOR, 5 % contrast threshold) at the ground, metres.
+     Sets the aerosol (Mie) extinction at sea level: beta = 3.0 / MOR minus Rayleigh.
+     0: default 40 000 m (clear). Valid range [50, 500 000]. */
+  double visibility_m;
+  /* Aerosol scale height, metres. 0: default 1200 m. Valid range [100, 20 000]. */
+  double aerosol_scale_height_m;
+  /* Lambertian ground albedo in [0, 1] (used where the view ray meets the Earth
+     with no host geometry, e.g. from high altitude). 0: default 0.1.
+     Use a tiny positive value for a black ground. */
+  double ground_albedo;
+} AtmoAtmosphereState;
+
+/* Time. UTC is POSIX time: days of exactly 86 400 s since 1970-01-01T00:00:00Z,
+   as the host's clock gives it; leap seconds are re-inserted inside the plugin
+   (UTC -> TAI -> TT with the IAU SOFA/ERFA tables) where precise ephemerides
+   need TT, and UT1 = UTC + dut1_s for the Earth's rotation. */
+typedef struct AtmoFrameState {
+  AtmoStructHeader header;      /* ATMO_TYPE_FRAME_STATE */
+  uint64_t host_frame_number;   /* monotonic; for logs and cache ageing */
+  double utc_posix_s;           /* simulation time, see above. Must be finite. */
+  double dut1_s;                /* UT1 - UTC in seconds, |dut1| < 1 (IERS Bulletin A); 0 is fine for rendering */
+} AtmoFrameState;
+
+typedef enum AtmoPositionKind {
+  ATMO_POSITION_ECEF = 0,     /* eye_ecef_m is used */
+  ATMO_POSITION_GEODETIC = 1  /* eye_geodetic is used (WGS84) */
+} AtmoPositionKind;
+
+typedef enum AtmoWorldFrame {
+  /* The host's world axes are ECEF (X to 0°N 0°E, Z to the North Pole). */
+  ATMO_WORLD_ECEF = 0,
+  /* The host's world axes are east-north-up at world_origin_geodetic (a local tangent plane). */
+  ATMO_WORLD_ENU = 1
+} AtmoWorldFrame;
+
+typedef enum AtmoDepthConvention {
+  /* glDepthRange(0,1), NDC z in [-1,1], near -> 0, far -> 1, depth test LESS/LEQUAL.
+     Distance is recovered through the inverse of clip_from_view. */
+  ATMO_DEPTH_STANDARD = 0,
+  /* glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE) with a reversed projection:
+     NDC z in [0,1], near -> 1, far (or infinity) -> 0, depth test GREATER/GEQUAL. */
+  ATMO_DEPTH_REVERSED_ZERO_TO_ONE = 1,
+  /* Logarithmic depth written by the host's fragment shaders:
+     depth = log2(C * w + 1) / log2(C * far + 1), w = view-space distance along -z,
+     C = log_depth_coefficient, far = far_plane_m. Far -> 1. */
+  ATMO_DEPTH_LOGARITHMIC = 2
+} AtmoDepthConvention;
+
+typedef enum AtmoOutputEncoding {
+  /* Linear Rec.709/sRGB primaries (D65 white): RGB in cd/m^2 times exposure_scale,
+     for a float render target the host tone-maps itself. */
+  ATMO_OUTPUT_LINEAR_HDR = 0,
+  /* Display-referred: exposure, a filmic tone curve and the sRGB transfer function
+     are applied in the shader, for an 8-bit non-sRGB target. */
+  ATMO_OUTPUT_DISPLAY_SRGB = 1
+} AtmoOutputEncoding;
+
+/* One channel's camera and render target for this frame. Matrices are
+   column-major 4x4 doubles (OpenGL convention, element [col*4 + row]). */
+typedef struct AtmoViewState {
+  AtmoStructHeader header; /* ATMO_TYPE_VIEW_STATE */
+
+  /* Eye position, double precision; rendering inside is relative to the eye. */
+  uint32_t eye_kind;            /* AtmoPositionKind */
+  uint32_t world_frame;         /* AtmoWorldFrame of view_from_world's axes */
+  double eye_ecef_m[3];         /* ECEF metres, if eye_kind == ATMO_POSITION_ECEF */
+  double eye_geodetic[3];       /* latitude deg [-90,90], longitude deg, height m above the WGS84 ellipsoid */
+  double world_origin_geodetic[3]; /* origin of the ENU world frame (lat deg, lon deg, h m); ATMO_WORLD_ENU only */
+
+  /* The host's view matrix. Only its rotation is used (the eye is given above),
+     so a host whose world is ECEF loses no precision to a huge translation. */
+  double view_from_world[16];
+  /* The host's projection matrix (perspective, finite or infinite far plane). */
+  double clip_from_view[16];
+
+  /* Render target: the plugin draws into the framebuffer bound when a pass is
+     called, restricted to this viewport (pixels). */
+  int32_t viewport[4];          /* x, y, width, height; width, height > 0 */
+
+  /* The host's depth, as a GL texture name (GL_TEXTURE_2D, any depth format),
+     sampled with texelFetch at the pixel of the viewport. 0: no depth — the sky
+     then covers the whole viewport and aerial perspective draws nothing. */
+  uint32_t depth_texture;
+  uint32_t depth_convention;    /* AtmoDepthConvention */
+  double far_plane_m;           /* ATMO_DEPTH_LOGARITHMIC only: the far distance in the formula */
+  double log_depth_coefficient; /* ATMO_DEPTH_LOGARITHMIC only: C; 0 means 1 */
+
+  uint32_t output_encoding;     /* AtmoOutputEncoding */
+  uint32_t reserved;
+  /* Multiplier from cd/m^2 to output units. 0: default 1 / (1.2 * 2^15), i.e.
+     EV100 = 15, a sunny-day exposure. Photographic: 1 / (1.2 * 2^EV100). */
+  double exposure_scale;
+} AtmoViewState;
+
+/* ------------------------------------------------------------------------ */
+/* Passes                                                                    */
+/* ------------------------------------------------------------------------ */
+
+typedef enum AtmoPass {
+  /* Sky dome, sun disc, and the Earth seen from above where no geometry is.
+     Draws only where the host depth is at the far plane (or everywhere with no
+     depth texture), so it may be called before or after opaques. Replaces colour. */
+  ATMO_PASS_SKY = 0,
+  /* Haze over the host's opaque geometry, from the host depth: colour =
+     colour * transmittance + in-scattered light. Call after opaques. */
+  ATMO_PASS_AERIAL_PERSPECTIVE = 1,
+  ATMO_PASS_CLOUDS = 2,       /* volumetric clouds (not yet supported: nothing to draw) */
+  ATMO_PASS_NIGHT_SKY = 3,    /* stars, moon, planets (not yet supported: nothing to draw) */
+  ATMO_PASS_LIGHT_GLOWS = 4,  /* glows of host lights in fog (not yet supported: nothing to draw) */
+  ATMO_PASS_COUNT = 5
+} AtmoPass;
+
+typedef struct AtmoPassInfo {
+  AtmoStructHeader header; /* ATMO_TYPE_PASS_INFO */
+  uint32_t pass;           /* AtmoPass */
+  uint32_t flags;          /* reserved, 0 */
+} AtmoPassInfo;
+
+/* ------------------------------------------------------------------------ */
+/* Lighting for the host's own shading                                       */
+/* ------------------------------------------------------------------------ */
+
+typedef struct AtmoLighting {
+  AtmoStructHeader header;        /* ATMO_TYPE_LIGHTING; the host sets header, the plugin fills the rest */
+  double sun_direction_ecef[3];   /* unit vector from the eye towards the sun */
+  double sun_direction_enu[3];    /* the same in east-north-up at the eye */
+  double sun_elevation_rad;       /* geometric elevation above the horizontal plane */
+  double sun_azimuth_rad;         /* from north, clockwise (east = pi/2) */
+  double sun_illuminance_lux[3];  /* on a surface facing the sun at the eye, after the atmosphere, linear RGB */
+} AtmoLighting;
+
+/* ------------------------------------------------------------------------ */
+/* Negotiation and the function table                                        */
+/* ------------------------------------------------------------------------ */
+
+typedef struct AtmoNegotiateInfo {
+  AtmoStructHeader header;          /* ATMO_TYPE_NEGOTIATE_INFO */
+  uint32_t min_interface_version;   /* the oldest the host can use, >= 1 */
+  uint32_t max_interface_version;   /* the newest the host can use, >= min */
+  const char* host_name;            /* for logs; may be NULL */
+  uint32_t host_version;
+  uint32_t reserved;
+} AtmoNegotiateInfo;
+
+typedef struct AtmoPluginApi {
+  AtmoStructHeader header;   /* ATMO_TYPE_PLUGIN_API; host sets struct_size to the size it can take */
+  uint32_t interface_version; /* written by the plugin: the version chosen */
+  uint32_t plugin_version;   /* written by the plugin: (major << 16) | (minor << 8) | patch */
+  const char* plugin_name;   /* written by the plugin; static string */
+
+  /* Name of any result code; a static string, never NULL. [any-thread] */
+  const char* (*result_string)(AtmoResult result);
+
+  /* Detailed message of the last error on this context (what failed and where);
+     "" if none. Valid until the next call on the context. [ctx-sync][no-gl] */
+  const char* (*last_error)(AtmoContext context);
+
+  /* Creates a context. On failure *out_context is NULL. [any-thread][no-gl] */
+  AtmoResult (*create_context)(const AtmoContextCreateInfo* info, AtmoContext* out_context);
+  /* Destroys a context and any views it still has. Call gl_shutdown (or
+     gl_context_lost) first; if GL objects are still alive they are leaked, not
+     deleted, and a HOST_MISBEHAVING message is logged. NULL is ignored. [ctx-sync][no-gl] */
+  void (*destroy_context)(AtmoContext context);
+
+  /* Loads GL entry points and creates the plugin's GL objects in the current
+     context. Idempotent: a second call with objects alive returns ATMO_SUCCESS. [ctx-sync][gl-current] */
+  AtmoResult (*gl_init)(AtmoContext context);
+  /* Deletes the plugin's GL objects. Idempotent. [ctx-sync][gl-current] */
+  AtmoResult (*gl_shutdown)(AtmoContext context);
+  /* The GL context is gone: forget GL objects without calling GL. gl_init may
+     follow on a new context. Idempotent. [ctx-sync][no-gl] */
+  AtmoResult (*gl_context_lost)(AtmoContext context);
+
+  /* Views: one per channel / eye. destroy_view(NULL) is ignored. [ctx-sync][no-gl] */
+  AtmoResult (*create_view)(AtmoContext context, const AtmoViewCreateInfo* info, AtmoView* out_view);
+  void (*destroy_view)(AtmoView view);
+
+  /* World state; each validated whole, and on error nothing changes. [ctx-sync][no-gl] */
+  AtmoResult (*set_atmosphere)(AtmoContext context, const AtmoAtmosphereState* state);
+  AtmoResult (*set_frame)(AtmoContext context, const AtmoFrameState* state);
+  AtmoResult (*set_view)(AtmoView view, const AtmoViewState* state);
+
+  /* Draws one pass of a view into the bound framebuffer. Needs gl_init,
+     set_frame and set_view first (else ATMO_ERROR_CALL_OUT_OF_ORDER).
+     Returns ATMO_STATUS_NOTHING_TO_DRAW when nothing was visible (no GL work). [ctx-sync][gl-current] */
+  AtmoResult (*render_pass)(AtmoView view, const AtmoPassInfo* pass);
+
+  /* Sun light at the view's eye for the host's shading. Needs set_frame and set_view. [ctx-sync][no-gl] */
+  AtmoResult (*get_lighting)(AtmoView view, AtmoLighting* out_lighting);
+} AtmoPluginApi;
+
+/* The one exported entry point. The host fills `host` and sets
+   api->header = ATMO_HEADER(ATMO_TYPE_PLUGIN_API, AtmoPluginApi); the plugin
+   picks the highest interface version in [min, max] it implements and fills
+   api up to min(api->header.struct_size, its own table size). Returns
+   ATMO_ERROR_INCOMPATIBLE_VERSION (api untouched past its header) when the
+   ranges do not overlap. [any-thread][no-gl] */
+typedef AtmoResult (*PFN_atmo_negotiate)(const AtmoNegotiateInfo* host, AtmoPluginApi* api);
+
+#if defined(ATMO_BUILDING_PLUGIN)
+#  define ATMO_EXPORT __attribute__((visibility("default")))
+#else
+#  define ATMO_EXPORT
+#endif
+
+ATMO_EXPORT AtmoResult atmo_negotiate(const AtmoNegotiateInfo* host, AtmoPluginApi* api);
+
+#ifdef __cplusplus
+} /* extern "C" */
+#endif
+
+#endif /* ATMO_ATMO_H */

@@ -1,0 +1,151 @@
+// atmo.hpp — header-only C++17 RAII wrapper over the Atmo C ABI (atmo.h) and
+// the host SDK loader (atmo_loader.h). Errors become atmo::Error exceptions on
+// the host's side of the ABI; nothing here crosses it.
+//
+//   atmo::Plugin plugin("libatmo.so");           // dlopen + negotiate
+//   atmo::Context ctx(plugin, services);         // create_context
+//   ctx.gl_init();                               // GL current
+//   atmo::View view(ctx, 0);                     // create_view
+//   ctx.set_frame(frame); view.set(view_state);
+//   view.render(ATMO_PASS_SKY);
+//   // destructors: view, then ctx (gl_shutdown if initialised, destroy), then plugin
+#ifndef ATMO_ATMO_HPP
+#define ATMO_ATMO_HPP
+
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "atmo/atmo.h"
+#include "atmo/atmo_loader.h"
+
+namespace atmo {
+
+class Error : public std::runtime_error {
+ public:
+  Error(AtmoResult code, const std::string& message) : std::runtime_error(message), code_(code) {}
+  AtmoResult code() const { return code_; }
+
+ private:
+  AtmoResult code_;
+};
+
+// Zero-initialised struct with its header filled: atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE).
+template <typename T>
+T make(AtmoStructType type) {
+  T value{};
+  value.header.type = static_cast<uint32_t>(type);
+  value.header.struct_size = static_cast<uint32_t>(sizeof(T));
+  value.header.next = nullptr;
+  return value;
+}
+
+class Plugin {
+ public:
+  explicit Plugin(const std::string& path, const char* host_name = "atmo C++ host",
+                  uint32_t min_version = ATMO_INTERFACE_VERSION_1,
+                  uint32_t max_version = ATMO_INTERFACE_VERSION_CURRENT) {
+    AtmoResult r = atmo_load_plugin(path.c_str(), min_version, max_version, host_name, &loaded_);
+    if (r < 0) throw Error(r, loaded_.error);
+  }
+  ~Plugin() { atmo_unload_plugin(&loaded_); }
+  Plugin(const Plugin&) = delete;
+  Plugin& operator=(const Plugin&) = delete;
+
+  const AtmoPluginApi& api() const { return loaded_.api; }
+  std::string result_string(AtmoResult r) const { return loaded_.api.result_string(r); }
+
+ private:
+  AtmoLoadedPlugin loaded_{};
+};
+
+class Context {
+ public:
+  Context(const Plugin& plugin, const AtmoHostServices* services = nullptr,
+          const char* asset_root = nullptr, uint64_t seed = 0)
+      : api_(&plugin.api()) {
+    auto info = make<AtmoContextCreateInfo>(ATMO_TYPE_CONTEXT_CREATE_INFO);
+    info.services = services;
+    info.asset_root = asset_root;
+    info.application_name = "atmo C++ host";
+    info.seed = seed;
+    AtmoResult r = api_->create_context(&info, &context_);
+    if (r < 0) throw Error(r, std::string("create_context: ") + api_->result_string(r));
+  }
+  ~Context() {
+    if (!context_) return;
+    if (gl_alive_) api_->gl_shutdown(context_);
+    api_->destroy_context(context_);
+  }
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  // [gl-current]
+  void gl_init() {
+    check(api_->gl_init(context_), "gl_init");
+    gl_alive_ = true;
+  }
+  // [gl-current]
+  void gl_shutdown() {
+    check(api_->gl_shutdown(context_), "gl_shutdown");
+    gl_alive_ = false;
+  }
+  void gl_context_lost() {
+    check(api_->gl_context_lost(context_), "gl_context_lost");
+    gl_alive_ = false;
+  }
+  void set_atmosphere(const AtmoAtmosphereState& s) { check(api_->set_atmosphere(context_, &s), "set_atmosphere"); }
+  void set_frame(const AtmoFrameState& s) { check(api_->set_frame(context_, &s), "set_frame"); }
+
+  AtmoContext handle() const { return context_; }
+  const AtmoPluginApi& api() const { return *api_; }
+
+  // Throws with the plugin's detailed message on an error; returns statuses.
+  AtmoResult check(AtmoResult r, const char* what) const {
+    if (r < 0) {
+      throw Error(r, std::string(what) + ": " + api_->result_string(r) + ": " + api_->last_error(context_));
+    }
+    return r;
+  }
+
+ private:
+  const AtmoPluginApi* api_;
+  AtmoContext context_ = nullptr;
+  bool gl_alive_ = false;
+};
+
+class View {
+ public:
+  View(Context& context, uint32_t channel_id = 0) : context_(&context) {
+    auto info = make<AtmoViewCreateInfo>(ATMO_TYPE_VIEW_CREATE_INFO);
+    info.channel_id = channel_id;
+    context_->check(context_->api().create_view(context_->handle(), &info, &view_), "create_view");
+  }
+  ~View() {
+    if (view_) context_->api().destroy_view(view_);
+  }
+  View(const View&) = delete;
+  View& operator=(const View&) = delete;
+
+  void set(const AtmoViewState& s) { context_->check(context_->api().set_view(view_, &s), "set_view"); }
+  // [gl-current] Returns ATMO_SUCCESS or ATMO_STATUS_NOTHING_TO_DRAW.
+  AtmoResult render(AtmoPass pass) {
+    auto info = make<AtmoPassInfo>(ATMO_TYPE_PASS_INFO);
+    info.pass = static_cast<uint32_t>(pass);
+    return context_->check(context_->api().render_pass(view_, &info), "render_pass");
+  }
+  AtmoLighting lighting() const {
+    auto out = make<AtmoLighting>(ATMO_TYPE_LIGHTING);
+    context_->check(context_->api().get_lighting(view_, &out), "get_lighting");
+    return out;
+  }
+  AtmoView handle() const { return view_; }
+
+ private:
+  Context* context_;
+  AtmoView view_ = nullptr;
+};
+
+}  // namespace atmo
+
+#endif  // ATMO_ATMO_HPP
