@@ -1,0 +1,454 @@
+// entry.cpp — the C ABI: atmo_negotiate and the function table. Each function
+// checks its handles and structs, runs behind an exception barrier, and on
+// error leaves state unchanged and records a message naming what and where.
+#include <cmath>
+#include <cstring>
+#include <new>
+#include <string>
+
+#include "abi/objects.h"
+#include "abi/scene_inputs.h"
+#include "abi/struct_io.h"
+#include "abi/validation.h"
+#include "atmo/atmo.h"
+
+using atmo::abi::HostServices;
+using atmo::abi::read_struct;
+using atmo::abi::ReadError;
+
+namespace {
+
+constexpr uint32_t kPluginVersion = (0u << 16) | (1u << 8) | 0u;
+constexpr uint32_t kMinInterface = ATMO_INTERFACE_VERSION_1;
+constexpr uint32_t kMaxInterface = ATMO_INTERFACE_VERSION_1;
+
+// Errors with no live context to hold them (create_context, bad handles).
+thread_local std::string g_orphan_error;
+
+AtmoResult fail(AtmoContext_T* ctx, AtmoResult code, const char* function, const std::string& message) {
+  std::string text = std::string(function) + ": " + message;
+  if (ctx) {
+    ctx->last_error = text;
+    ctx->services.log(ATMO_LOG_ERROR, text);
+  } else {
+    g_orphan_error = text;
+    HostServices().log(ATMO_LOG_ERROR, text);
+  }
+  return code;
+}
+
+AtmoResult fail(AtmoContext_T* ctx, const char* function, const ReadError& e) {
+  return fail(ctx, e.code, function, e.message);
+}
+
+// No exception may cross the ABI.
+template <typename Body>
+AtmoResult guarded(AtmoContext_T* ctx, const char* function, Body&& body) noexcept {
+  try {
+    return body();
+  } catch (const std::bad_alloc&) {
+    return fail(ctx, ATMO_ERROR_OUT_OF_MEMORY, function, "out of memory");
+  } catch (const std::exception& e) {
+    return fail(ctx, ATMO_ERROR_INTERNAL, function, std::string("internal error: ") + e.what());
+  } catch (...) {
+    return fail(ctx, ATMO_ERROR_INTERNAL, function, "internal error: unknown exception");
+  }
+}
+
+AtmoContext_T* live_context(AtmoContext context) {
+  return atmo::abi::is_live_context(context) ? context : nullptr;
+}
+
+const char* result_string(AtmoResult r) {
+  switch (r) {
+    case ATMO_SUCCESS: return "ATMO_SUCCESS";
+    case ATMO_STATUS_NOTHING_TO_DRAW: return "ATMO_STATUS_NOTHING_TO_DRAW";
+    case ATMO_STATUS_NOT_YET_SUPPORTED: return "ATMO_STATUS_NOT_YET_SUPPORTED";
+    case ATMO_ERROR_INVALID_ARGUMENT: return "ATMO_ERROR_INVALID_ARGUMENT";
+    case ATMO_ERROR_INCOMPATIBLE_VERSION: return "ATMO_ERROR_INCOMPATIBLE_VERSION";
+    case ATMO_ERROR_STRUCT_TOO_SMALL: return "ATMO_ERROR_STRUCT_TOO_SMALL";
+    case ATMO_ERROR_WRONG_STRUCT_TYPE: return "ATMO_ERROR_WRONG_STRUCT_TYPE";
+    case ATMO_ERROR_NON_FINITE_VALUE: return "ATMO_ERROR_NON_FINITE_VALUE";
+    case ATMO_ERROR_OUT_OF_RANGE: return "ATMO_ERROR_OUT_OF_RANGE";
+    case ATMO_ERROR_CALL_OUT_OF_ORDER: return "ATMO_ERROR_CALL_OUT_OF_ORDER";
+    case ATMO_ERROR_GL: return "ATMO_ERROR_GL";
+    case ATMO_ERROR_OUT_OF_MEMORY: return "ATMO_ERROR_OUT_OF_MEMORY";
+    case ATMO_ERROR_IO: return "ATMO_ERROR_IO";
+    case ATMO_ERROR_INVALID_HANDLE: return "ATMO_ERROR_INVALID_HANDLE";
+    case ATMO_ERROR_INTERNAL: return "ATMO_ERROR_INTERNAL";
+    default: return r > 0 ? "unknown status" : "unknown error";
+  }
+}
+
+const char* last_error(AtmoContext context) {
+  AtmoContext_T* ctx = live_context(context);
+  return ctx ? ctx->last_error.c_str() : g_orphan_error.c_str();
+}
+
+AtmoResult create_context(const AtmoContextCreateInfo* info_in, AtmoContext* out) {
+  return guarded(nullptr, "create_context", [&]() -> AtmoResult {
+    if (!out) return fail(nullptr, ATMO_ERROR_INVALID_ARGUMENT, "create_context", "out_context is NULL");
+    *out = nullptr;
+    AtmoContextCreateInfo info;
+    ReadError e = read_struct(info_in, ATMO_TYPE_CONTEXT_CREATE_INFO, "AtmoContextCreateInfo", &info);
+    if (e.code) return fail(nullptr, "create_context", e);
+    HostServices services;
+    if (info.services) {
+      AtmoHostServices s;
+      e = read_struct(info.services, ATMO_TYPE_HOST_SERVICES, "AtmoContextCreateInfo.services", &s);
+      if (e.code) return fail(nullptr, "create_context", e);
+      if ((s.allocate == nullptr) != (s.deallocate == nullptr)) {
+        return fail(nullptr, ATMO_ERROR_INVALID_ARGUMENT, "create_context",
+                    "AtmoHostServices: allocate and deallocate must both be set or both be NULL");
+      }
+      if (!((s.file_open && s.file_read && s.file_close) || (!s.file_open && !s.file_read && !s.file_close))) {
+        return fail(nullptr, ATMO_ERROR_INVALID_ARGUMENT, "create_context",
+                    "AtmoHostServices: file_open, file_read and file_close must all be set or all be NULL");
+      }
+      services = HostServices(s);
+    }
+    void* memory = services.allocate(sizeof(AtmoContext_T), alignof(AtmoContext_T));
+    if (!memory) return fail(nullptr, ATMO_ERROR_OUT_OF_MEMORY, "create_context", "the allocator returned NULL");
+    AtmoContext_T* ctx;
+    try {
+      ctx = new (memory) AtmoContext_T();
+      ctx->services = services;
+      ctx->asset_root = info.asset_root ? info.asset_root : atmo::abi::plugin_directory();
+      ctx->application_name = info.application_name ? info.application_name : "";
+      ctx->seed = info.seed;
+    } catch (...) {
+      services.deallocate(memory);
+      throw;
+    }
+    atmo::abi::register_context(ctx);
+    *out = ctx;
+    return ATMO_SUCCESS;
+  });
+}
+
+template <typename T>
+void destroy_object(T* object, const HostServices& services) {
+  object->~T();
+  services.deallocate(object);
+}
+
+void destroy_view_object(AtmoView_T* view) {
+  atmo::abi::unregister_view(view);
+  HostServices services = view->context->services;
+  destroy_object(view, services);
+}
+
+void destroy_context(AtmoContext context) {
+  if (!context) return;
+  guarded(nullptr, "destroy_context", [&]() -> AtmoResult {
+    AtmoContext_T* ctx = live_context(context);
+    if (!ctx) {
+      HostServices().log(ATMO_LOG_HOST_MISBEHAVING, "destroy_context: not a live context (destroyed twice?)");
+      return ATMO_ERROR_INVALID_HANDLE;
+    }
+    for (AtmoView_T* v : ctx->views) destroy_view_object(v);
+    ctx->views.clear();
+    if (ctx->gl_alive) {
+      ctx->services.log(ATMO_LOG_HOST_MISBEHAVING,
+                        "destroy_context: gl_shutdown was not called; the plugin's GL objects are leaked");
+    }
+    atmo::abi::unregister_context(ctx);
+    HostServices services = ctx->services;
+    destroy_object(ctx, services);
+    return ATMO_SUCCESS;
+  });
+}
+
+struct LoaderThunk {
+  AtmoGlProcLoader load;
+  void* user;
+};
+
+GLADapiproc load_through_host(void* thunk, const char* name) {
+  auto* t = static_cast<LoaderThunk*>(thunk);
+  void* p = t->load(t->user, name);
+  GLADapiproc f = nullptr;
+  std::memcpy(&f, &p, sizeof(p));
+  return f;
+}
+
+AtmoResult gl_init(AtmoContext context) {
+  AtmoContext_T* ctx = live_context(context);
+  if (!ctx) return fail(nullptr, ATMO_ERROR_INVALID_HANDLE, "gl_init", "not a live context");
+  return guarded(ctx, "gl_init", [&]() -> AtmoResult {
+    if (ctx->gl_alive) return ATMO_SUCCESS;
+    LoaderThunk thunk{ctx->services.gl_loader(), ctx->services.gl_loader_user()};
+    if (!thunk.load) {
+      return fail(ctx, ATMO_ERROR_GL, "gl_init",
+                  "no GL loader: the host gave no gl_get_proc_address and neither eglGetProcAddress nor "
+                  "glXGetProcAddressARB is loaded in the process");
+    }
+    std::string error;
+    if (!ctx->renderer.init(&load_through_host, &thunk, &error)) return fail(ctx, ATMO_ERROR_GL, "gl_init", error);
+    ctx->gl_alive = true;
+    ctx->uploaded_lut_version = 0;
+    return ATMO_SUCCESS;
+  });
+}
+
+AtmoResult gl_shutdown(AtmoContext context) {
+  AtmoContext_T* ctx = live_context(context);
+  if (!ctx) return fail(nullptr, ATMO_ERROR_INVALID_HANDLE, "gl_shutdown", "not a live context");
+  return guarded(ctx, "gl_shutdown", [&]() -> AtmoResult {
+    if (!ctx->gl_alive) return ATMO_SUCCESS;
+    ctx->renderer.destroy();
+    ctx->gl_alive = false;
+    ctx->uploaded_lut_version = 0;
+    return ATMO_SUCCESS;
+  });
+}
+
+AtmoResult gl_context_lost(AtmoContext context) {
+  AtmoContext_T* ctx = live_context(context);
+  if (!ctx) return fail(nullptr, ATMO_ERROR_INVALID_HANDLE, "gl_context_lost", "not a live context");
+  ctx->renderer.forget();
+  ctx->gl_alive = false;
+  ctx->uploaded_lut_version = 0;
+  return ATMO_SUCCESS;
+}
+
+AtmoResult create_view(AtmoContext context, const AtmoViewCreateInfo* info_in, AtmoView* out) {
+  AtmoContext_T* ctx = live_context(context);
+  if (!ctx) return fail(nullptr, ATMO_ERROR_INVALID_HANDLE, "create_view", "not a live context");
+  return guarded(ctx, "create_view", [&]() -> AtmoResult {
+    if (!out) return fail(ctx, ATMO_ERROR_INVALID_ARGUMENT, "create_view", "out_view is NULL");
+    *out = nullptr;
+    AtmoViewCreateInfo info;
+    ReadError e = read_struct(info_in, ATMO_TYPE_VIEW_CREATE_INFO, "AtmoViewCreateInfo", &info);
+    if (e.code) return fail(ctx, "create_view", e);
+    void* memory = ctx->services.allocate(sizeof(AtmoView_T), alignof(AtmoView_T));
+    if (!memory) return fail(ctx, ATMO_ERROR_OUT_OF_MEMORY, "create_view", "the allocator returned NULL");
+    auto* view = new (memory) AtmoView_T();
+    view->context = ctx;
+    view->channel_id = info.channel_id;
+    try {
+      ctx->views.push_back(view);
+    } catch (...) {
+      destroy_object(view, ctx->services);
+      throw;
+    }
+    atmo::abi::register_view(view);
+    *out = view;
+    return ATMO_SUCCESS;
+  });
+}
+
+void destroy_view(AtmoView view) {
+  if (!view) return;
+  if (!atmo::abi::is_live_view(view)) {
+    HostServices().log(ATMO_LOG_HOST_MISBEHAVING, "destroy_view: not a live view (destroyed twice?)");
+    return;
+  }
+  AtmoContext_T* ctx = view->context;
+  for (size_t i = 0; i < ctx->views.size(); ++i) {
+    if (ctx->views[i] == view) {
+      ctx->views.erase(ctx->views.begin() + static_cast<long>(i));
+      break;
+    }
+  }
+  destroy_view_object(view);
+}
+
+AtmoResult set_atmosphere(AtmoContext context, const AtmoAtmosphereState* state) {
+  AtmoContext_T* ctx = live_context(context);
+  if (!ctx) return fail(nullptr, ATMO_ERROR_INVALID_HANDLE, "set_atmosphere", "not a live context");
+  return guarded(ctx, "set_atmosphere", [&]() -> AtmoResult {
+    AtmoAtmosphereState s;
+    ReadError e = read_struct(state, ATMO_TYPE_ATMOSPHERE_STATE, "AtmoAtmosphereState", &s);
+    if (e.code) return fail(ctx, "set_atmosphere", e);
+    atmo::core::AtmosphereSettings settings;
+    atmo::abi::Verdict v = atmo::abi::validate_atmosphere(s, &settings);
+    if (!v.ok()) return fail(ctx, v.code, "set_atmosphere", v.message);
+    ctx->atmosphere = settings;
+    return ATMO_SUCCESS;
+  });
+}
+
+AtmoResult set_frame(AtmoContext context, const AtmoFrameState* state) {
+  AtmoContext_T* ctx = live_context(context);
+  if (!ctx) return fail(nullptr, ATMO_ERROR_INVALID_HANDLE, "set_frame", "not a live context");
+  return guarded(ctx, "set_frame", [&]() -> AtmoResult {
+    AtmoFrameState s;
+    ReadError e = read_struct(state, ATMO_TYPE_FRAME_STATE, "AtmoFrameState", &s);
+    if (e.code) return fail(ctx, "set_frame", e);
+    atmo::abi::Verdict v = atmo::abi::validate_frame(s);
+    if (!v.ok()) return fail(ctx, v.code, "set_frame", v.message);
+    ctx->utc_posix_s = s.utc_posix_s;
+    ctx->dut1_s = s.dut1_s;
+    ctx->frame_number = s.host_frame_number;
+    ctx->have_frame = true;
+    return ATMO_SUCCESS;
+  });
+}
+
+AtmoView_T* live_view(AtmoView view, const char* function) {
+  if (atmo::abi::is_live_view(view)) return view;
+  fail(nullptr, ATMO_ERROR_INVALID_HANDLE, function, "not a live view");
+  return nullptr;
+}
+
+AtmoResult set_view(AtmoView view_handle, const AtmoViewState* state) {
+  AtmoView_T* view = live_view(view_handle, "set_view");
+  if (!view) return ATMO_ERROR_INVALID_HANDLE;
+  AtmoContext_T* ctx = view->context;
+  return guarded(ctx, "set_view", [&]() -> AtmoResult {
+    AtmoViewState s;
+    ReadError e = read_struct(state, ATMO_TYPE_VIEW_STATE, "AtmoViewState", &s);
+    if (e.code) return fail(ctx, "set_view", e);
+    atmo::core::EyeFrame eye;
+    atmo::abi::Verdict v = atmo::abi::validate_view(s, &eye);
+    if (!v.ok()) return fail(ctx, v.code, "set_view", v.message);
+    s.header.next = nullptr;  // the host's chain need not outlive the call
+    view->state = s;
+    view->eye = eye;
+    view->have_state = true;
+    return ATMO_SUCCESS;
+  });
+}
+
+AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
+  AtmoView_T* view = live_view(view_handle, "render_pass");
+  if (!view) return ATMO_ERROR_INVALID_HANDLE;
+  AtmoContext_T* ctx = view->context;
+  return guarded(ctx, "render_pass", [&]() -> AtmoResult {
+    AtmoPassInfo pass;
+    ReadError e = read_struct(pass_in, ATMO_TYPE_PASS_INFO, "AtmoPassInfo", &pass);
+    if (e.code) return fail(ctx, "render_pass", e);
+    if (pass.pass >= ATMO_PASS_COUNT) {
+      return fail(ctx, ATMO_ERROR_INVALID_ARGUMENT, "render_pass",
+                  "AtmoPassInfo.pass = " + std::to_string(pass.pass) + " is not an AtmoPass");
+    }
+    if (!ctx->gl_alive) {
+      return fail(ctx, ATMO_ERROR_CALL_OUT_OF_ORDER, "render_pass",
+                  "gl_init has not been called on this context (or the GL context was lost)");
+    }
+    if (!ctx->have_frame) return fail(ctx, ATMO_ERROR_CALL_OUT_OF_ORDER, "render_pass", "set_frame has not been called");
+    if (!view->have_state) return fail(ctx, ATMO_ERROR_CALL_OUT_OF_ORDER, "render_pass", "set_view has not been called");
+
+    switch (pass.pass) {
+      case ATMO_PASS_CLOUDS:
+      case ATMO_PASS_NIGHT_SKY:
+      case ATMO_PASS_LIGHT_GLOWS:
+        return ATMO_STATUS_NOT_YET_SUPPORTED;  // no GL work at all
+      case ATMO_PASS_AERIAL_PERSPECTIVE:
+        if (view->state.depth_texture == 0) return ATMO_STATUS_NOTHING_TO_DRAW;
+        break;
+      default:
+        break;
+    }
+    if (view->state.depth_texture != 0 && !glIsTexture(view->state.depth_texture)) {
+      return fail(ctx, ATMO_ERROR_INVALID_ARGUMENT, "render_pass",
+                  "AtmoViewState.depth_texture = " + std::to_string(view->state.depth_texture) +
+                      " is not a texture in the current GL context");
+    }
+    atmo::abi::SceneInputs scene = atmo::abi::prepare_scene(ctx, *view);
+    if (ctx->uploaded_lut_version != ctx->lut_version) {
+      ctx->renderer.upload_transmittance(ctx->lut);
+      ctx->uploaded_lut_version = ctx->lut_version;
+    }
+    atmo::gl::PassInputs inputs = atmo::abi::make_pass_inputs(scene, *view);
+    std::string error;
+    bool ok = pass.pass == ATMO_PASS_SKY ? ctx->renderer.draw_sky(inputs, &error)
+                                         : ctx->renderer.draw_aerial_perspective(inputs, &error);
+    if (!ok) return fail(ctx, ATMO_ERROR_GL, "render_pass", error);
+    return ATMO_SUCCESS;
+  });
+}
+
+AtmoResult get_lighting(AtmoView view_handle, AtmoLighting* out) {
+  AtmoView_T* view = live_view(view_handle, "get_lighting");
+  if (!view) return ATMO_ERROR_INVALID_HANDLE;
+  AtmoContext_T* ctx = view->context;
+  return guarded(ctx, "get_lighting", [&]() -> AtmoResult {
+    AtmoLighting l;
+    ReadError e = read_struct(out, ATMO_TYPE_LIGHTING, "AtmoLighting", &l);
+    if (e.code) return fail(ctx, "get_lighting", e);
+    if (!ctx->have_frame) return fail(ctx, ATMO_ERROR_CALL_OUT_OF_ORDER, "get_lighting", "set_frame has not been called");
+    if (!view->have_state) return fail(ctx, ATMO_ERROR_CALL_OUT_OF_ORDER, "get_lighting", "set_view has not been called");
+    atmo::abi::SceneInputs scene = atmo::abi::prepare_scene(ctx, *view);
+    const glm::dvec3& enu = scene.sun_direction_enu;
+    for (int i = 0; i < 3; ++i) {
+      l.sun_direction_ecef[i] = scene.sun_direction_ecef[i];
+      l.sun_direction_enu[i] = enu[i];
+    }
+    l.sun_elevation_rad = std::asin(glm::clamp(enu.z, -1.0, 1.0));
+    double azimuth = std::atan2(enu.x, enu.y);
+    l.sun_azimuth_rad = azimuth < 0.0 ? azimuth + 2.0 * M_PI : azimuth;
+    const auto& atm = scene.atmosphere;
+    float r = atm.bottom_radius_m + static_cast<float>(scene.eye_altitude_m);
+    glm::vec3 t = atmo::twin::transmittance_to_sun(atm, ctx->lut, glm::vec2(ctx->lut.width, ctx->lut.height), r,
+                                                   static_cast<float>(enu.z));
+    for (int i = 0; i < 3; ++i) l.sun_illuminance_lux[i] = static_cast<double>(atm.sun_illuminance_lux[i] * t[i]);
+    // Write back what the host's struct can hold, keeping its header.
+    size_t n = out->header.struct_size < sizeof(l) ? out->header.struct_size : sizeof(l);
+    l.header = out->header;
+    std::memcpy(static_cast<void*>(out), &l, n);
+    return ATMO_SUCCESS;
+  });
+}
+
+const AtmoPluginApi kApi = {
+    {ATMO_TYPE_PLUGIN_API, sizeof(AtmoPluginApi), nullptr},
+    ATMO_INTERFACE_VERSION_1,
+    kPluginVersion,
+    "Atmo",
+    &result_string,
+    &last_error,
+    &create_context,
+    &destroy_context,
+    &gl_init,
+    &gl_shutdown,
+    &gl_context_lost,
+    &create_view,
+    &destroy_view,
+    &set_atmosphere,
+    &set_frame,
+    &set_view,
+    &render_pass,
+    &get_lighting,
+};
+
+}  // namespace
+
+extern "C" ATMO_EXPORT AtmoResult atmo_negotiate(const AtmoNegotiateInfo* host, AtmoPluginApi* api) {
+  return guarded(nullptr, "atmo_negotiate", [&]() -> AtmoResult {
+    AtmoNegotiateInfo info;
+    ReadError e = read_struct(host, ATMO_TYPE_NEGOTIATE_INFO, "AtmoNegotiateInfo", &info);
+    if (e.code) return fail(nullptr, "atmo_negotiate", e);
+    if (!api) return fail(nullptr, ATMO_ERROR_INVALID_ARGUMENT, "atmo_negotiate", "api is NULL");
+    if (api->header.type != ATMO_TYPE_PLUGIN_API) {
+      return fail(nullptr, ATMO_ERROR_WRONG_STRUCT_TYPE, "atmo_negotiate", "api->header.type is not ATMO_TYPE_PLUGIN_API");
+    }
+    if (api->header.struct_size < atmo::abi::V1Size<AtmoPluginApi>::value) {
+      return fail(nullptr, ATMO_ERROR_STRUCT_TOO_SMALL, "atmo_negotiate",
+                  "api->header.struct_size is " + std::to_string(api->header.struct_size) +
+                      " bytes, version 1 needs " + std::to_string(atmo::abi::V1Size<AtmoPluginApi>::value));
+    }
+    if (info.min_interface_version == 0 || info.min_interface_version > info.max_interface_version) {
+      return fail(nullptr, ATMO_ERROR_INVALID_ARGUMENT, "atmo_negotiate",
+                  "host interface range [" + std::to_string(info.min_interface_version) + ", " +
+                      std::to_string(info.max_interface_version) + "] is empty or starts at 0");
+    }
+    uint32_t chosen = info.max_interface_version < kMaxInterface ? info.max_interface_version : kMaxInterface;
+    uint32_t lowest = info.min_interface_version > kMinInterface ? info.min_interface_version : kMinInterface;
+    if (chosen < lowest) {
+      return fail(nullptr, ATMO_ERROR_INCOMPATIBLE_VERSION, "atmo_negotiate",
+                  "host supports interface versions [" + std::to_string(info.min_interface_version) + ", " +
+                      std::to_string(info.max_interface_version) + "], this plugin [" + std::to_string(kMinInterface) +
+                      ", " + std::to_string(kMaxInterface) + "]");
+    }
+    // Fill what the host's table can hold; tell it how much that was.
+    uint32_t n = api->header.struct_size < sizeof(kApi) ? api->header.struct_size : sizeof(kApi);
+    const void* host_next = api->header.next;
+    std::memcpy(static_cast<void*>(api), &kApi, n);
+    api->header.struct_size = n;
+    api->header.next = host_next;
+    api->interface_version = chosen;
+    return ATMO_SUCCESS;
+  });
+}

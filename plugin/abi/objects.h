@@ -1,0 +1,67 @@
+// objects.h — what the opaque handles point to. A Context is one world (the
+// air, the time, GL objects); a View is one channel's camera and target.
+// Handles are registered so a stale or foreign pointer is refused, not used.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "abi/host_services.h"
+#include "atmo/atmo.h"
+#include "core/atmosphere_model.h"
+#include "core/eye_frame.h"
+#include "gl/renderer.h"
+
+struct AtmoView_T;
+
+struct AtmoContext_T {
+  atmo::abi::HostServices services;
+  std::string asset_root;
+  std::string application_name;
+  uint64_t seed = 0;
+  std::string last_error;
+
+  atmo::core::AtmosphereSettings atmosphere;
+  bool have_frame = false;
+  double utc_posix_s = 0.0;
+  double dut1_s = 0.0;
+  uint64_t frame_number = 0;
+
+  // The transmittance table for the last (settings, radius) it was built for.
+  struct LutKey {
+    double visibility_m = -1, aerosol_scale_height_m = -1, ground_albedo = -1, radius_m = -1;
+    bool operator==(const LutKey& o) const {
+      return visibility_m == o.visibility_m && aerosol_scale_height_m == o.aerosol_scale_height_m &&
+             ground_albedo == o.ground_albedo && radius_m == o.radius_m;
+    }
+  };
+  LutKey lut_key;
+  atmo::twin::TransmittanceTable lut;
+  uint64_t lut_version = 0;          // bumps when the CPU table changes
+  uint64_t uploaded_lut_version = 0; // what the GL texture holds (0: nothing)
+
+  atmo::gl::Renderer renderer;
+  bool gl_alive = false;
+  std::vector<AtmoView_T*> views;
+};
+
+struct AtmoView_T {
+  AtmoContext_T* context = nullptr;
+  uint32_t channel_id = 0;
+  bool have_state = false;
+  AtmoViewState state{};
+  atmo::core::EyeFrame eye;
+};
+
+namespace atmo::abi {
+
+// Handle registry (process-wide, locked).
+void register_context(AtmoContext_T* c);
+void unregister_context(AtmoContext_T* c);
+bool is_live_context(const AtmoContext_T* c);
+void register_view(AtmoView_T* v);
+void unregister_view(AtmoView_T* v);
+bool is_live_view(const AtmoView_T* v);
+
+}  // namespace atmo::abi

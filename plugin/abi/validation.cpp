@@ -1,0 +1,150 @@
+#include "abi/validation.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace atmo::abi {
+
+namespace {
+
+std::string number(double v) {
+  std::ostringstream s;
+  s.precision(10);
+  s << v;
+  return s.str();
+}
+
+// Each check returns false and fills the verdict on failure.
+bool finite(Verdict* v, const char* field, double value) {
+  if (std::isfinite(value)) return true;
+  *v = {ATMO_ERROR_NON_FINITE_VALUE, std::string(field) + " is " + number(value) + ", must be finite"};
+  return false;
+}
+
+bool finite_array(Verdict* v, const char* field, const double* values, int n) {
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(values[i])) {
+      *v = {ATMO_ERROR_NON_FINITE_VALUE,
+            std::string(field) + "[" + std::to_string(i) + "] is " + number(values[i]) + ", must be finite"};
+      return false;
+    }
+  }
+  return true;
+}
+
+bool in_range(Verdict* v, const char* field, double value, double lo, double hi, const char* unit) {
+  if (!finite(v, field, value)) return false;
+  if (value >= lo && value <= hi) return true;
+  *v = {ATMO_ERROR_OUT_OF_RANGE, std::string(field) + " = " + number(value) + " is outside [" + number(lo) + ", " +
+                                     number(hi) + "] " + unit};
+  return false;
+}
+
+bool enum_value(Verdict* v, const char* field, uint32_t value, uint32_t count) {
+  if (value < count) return true;
+  *v = {ATMO_ERROR_INVALID_ARGUMENT,
+        std::string(field) + " = " + std::to_string(value) + " is not a valid value (0.." + std::to_string(count - 1) + ")"};
+  return false;
+}
+
+glm::dmat4 matrix(const double m[16]) {
+  glm::dmat4 out;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) out[c][r] = m[c * 4 + r];
+  return out;
+}
+
+}  // namespace
+
+Verdict validate_atmosphere(const AtmoAtmosphereState& s, core::AtmosphereSettings* out) {
+  Verdict v;
+  core::AtmosphereSettings r;
+  if (s.visibility_m != 0.0 &&
+      !in_range(&v, "AtmoAtmosphereState.visibility_m", s.visibility_m, 50.0, 500000.0, "m"))
+    return v;
+  if (s.aerosol_scale_height_m != 0.0 &&
+      !in_range(&v, "AtmoAtmosphereState.aerosol_scale_height_m", s.aerosol_scale_height_m, 100.0, 20000.0, "m"))
+    return v;
+  if (s.ground_albedo != 0.0 && !in_range(&v, "AtmoAtmosphereState.ground_albedo", s.ground_albedo, 0.0, 1.0, ""))
+    return v;
+  if (s.visibility_m != 0.0) r.visibility_m = s.visibility_m;
+  if (s.aerosol_scale_height_m != 0.0) r.aerosol_scale_height_m = s.aerosol_scale_height_m;
+  if (s.ground_albedo != 0.0) r.ground_albedo = s.ground_albedo;
+  *out = r;
+  return v;
+}
+
+Verdict validate_frame(const AtmoFrameState& s) {
+  Verdict v;
+  // +-1e11 s is about year -1200 to 5100: beyond any ephemeris we use.
+  if (!in_range(&v, "AtmoFrameState.utc_posix_s", s.utc_posix_s, -1e11, 1e11, "s")) return v;
+  if (!in_range(&v, "AtmoFrameState.dut1_s", s.dut1_s, -1.0, 1.0, "s")) return v;
+  return v;
+}
+
+Verdict validate_view(const AtmoViewState& s, core::EyeFrame* out) {
+  Verdict v;
+  if (!enum_value(&v, "AtmoViewState.eye_kind", s.eye_kind, 2)) return v;
+  if (!enum_value(&v, "AtmoViewState.world_frame", s.world_frame, 2)) return v;
+  if (!enum_value(&v, "AtmoViewState.depth_convention", s.depth_convention, 3)) return v;
+  if (!enum_value(&v, "AtmoViewState.output_encoding", s.output_encoding, 2)) return v;
+
+  core::CameraInput cam;
+  cam.eye_is_geodetic = s.eye_kind == ATMO_POSITION_GEODETIC;
+  if (cam.eye_is_geodetic) {
+    if (!in_range(&v, "AtmoViewState.eye_geodetic[0] (latitude)", s.eye_geodetic[0], -90.0, 90.0, "degrees") ||
+        !in_range(&v, "AtmoViewState.eye_geodetic[1] (longitude)", s.eye_geodetic[1], -1e4, 1e4, "degrees") ||
+        !finite(&v, "AtmoViewState.eye_geodetic[2] (height)", s.eye_geodetic[2]))
+      return v;
+    cam.eye_geodetic = {s.eye_geodetic[0], s.eye_geodetic[1], s.eye_geodetic[2]};
+  } else {
+    if (!finite_array(&v, "AtmoViewState.eye_ecef_m", s.eye_ecef_m, 3)) return v;
+    cam.eye_ecef_m = glm::dvec3(s.eye_ecef_m[0], s.eye_ecef_m[1], s.eye_ecef_m[2]);
+    if (glm::length(cam.eye_ecef_m) < 1000.0) {
+      v = {ATMO_ERROR_OUT_OF_RANGE, "AtmoViewState.eye_ecef_m is within 1 km of the Earth's centre"};
+      return v;
+    }
+  }
+  cam.world_frame = s.world_frame == ATMO_WORLD_ENU ? core::WorldFrame::Enu : core::WorldFrame::Ecef;
+  if (cam.world_frame == core::WorldFrame::Enu) {
+    if (!in_range(&v, "AtmoViewState.world_origin_geodetic[0] (latitude)", s.world_origin_geodetic[0], -90.0, 90.0,
+                  "degrees") ||
+        !finite_array(&v, "AtmoViewState.world_origin_geodetic", s.world_origin_geodetic, 3))
+      return v;
+    cam.world_origin = {s.world_origin_geodetic[0], s.world_origin_geodetic[1], s.world_origin_geodetic[2]};
+  }
+  if (!finite_array(&v, "AtmoViewState.view_from_world", s.view_from_world, 16) ||
+      !finite_array(&v, "AtmoViewState.clip_from_view", s.clip_from_view, 16))
+    return v;
+  cam.view_from_world = matrix(s.view_from_world);
+  cam.clip_from_view = matrix(s.clip_from_view);
+
+  if (s.viewport[2] <= 0 || s.viewport[3] <= 0 || s.viewport[2] > 32768 || s.viewport[3] > 32768 ||
+      s.viewport[0] < 0 || s.viewport[1] < 0) {
+    v = {ATMO_ERROR_OUT_OF_RANGE, "AtmoViewState.viewport = {" + std::to_string(s.viewport[0]) + ", " +
+                                      std::to_string(s.viewport[1]) + ", " + std::to_string(s.viewport[2]) + ", " +
+                                      std::to_string(s.viewport[3]) +
+                                      "}: x, y must be >= 0 and width, height in [1, 32768]"};
+    return v;
+  }
+  if (s.depth_convention == ATMO_DEPTH_LOGARITHMIC) {
+    if (!in_range(&v, "AtmoViewState.far_plane_m", s.far_plane_m, 1e-3, 1e12, "m")) return v;
+    if (s.log_depth_coefficient != 0.0 &&
+        !in_range(&v, "AtmoViewState.log_depth_coefficient", s.log_depth_coefficient, 1e-9, 1e9, ""))
+      return v;
+  }
+  if (!in_range(&v, "AtmoViewState.exposure_scale", s.exposure_scale, 0.0, 1e12, "")) return v;
+
+  core::EyeFrame frame;
+  std::string why;
+  if (!core::make_eye_frame(cam, &frame, &why)) {
+    v = {ATMO_ERROR_OUT_OF_RANGE, "AtmoViewState." + why};
+    return v;
+  }
+  // The atmosphere model is valid from below sea level up to well above its top.
+  if (!in_range(&v, "eye height above the WGS84 ellipsoid", frame.eye.height_m, -12000.0, 1.0e7, "m")) return v;
+  *out = frame;
+  return v;
+}
+
+}  // namespace atmo::abi

@@ -1,0 +1,28 @@
+// validation.h — checks every field of a state struct against its documented
+// range before anything changes, so a bad frame is refused whole with a
+// message that names the struct, the field and the value.
+#pragma once
+
+#include <string>
+
+#include "atmo/atmo.h"
+#include "core/atmosphere_model.h"
+#include "core/eye_frame.h"
+
+namespace atmo::abi {
+
+struct Verdict {
+  AtmoResult code = ATMO_SUCCESS;
+  std::string message;
+  bool ok() const { return code == ATMO_SUCCESS; }
+};
+
+Verdict validate_atmosphere(const AtmoAtmosphereState& s, core::AtmosphereSettings* out);
+Verdict validate_frame(const AtmoFrameState& s);
+// Fills the eye frame (double precision) from a valid view state.
+Verdict validate_view(const AtmoViewState& s, core::EyeFrame* out);
+
+// Default exposure when exposure_scale is 0: EV100 = 15.
+constexpr double kDefaultExposureScale = 1.0 / (1.2 * 32768.0);
+
+}  // namespace atmo::abi

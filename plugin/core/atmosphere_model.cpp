@@ -1,0 +1,72 @@
+#include "core/atmosphere_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace atmo::core {
+
+namespace {
+const glm::dvec3 kWavelengthsNm(680.0, 550.0, 440.0);
+const glm::dvec3 kRayleighScattering(5.802e-6, 13.558e-6, 33.1e-6);
+const glm::dvec3 kOzoneAbsorption(0.650e-6, 1.881e-6, 0.085e-6);
+constexpr double kAerosolSingleScatteringAlbedo = 0.9;
+constexpr double kAngstromExponent = 1.3;
+constexpr double kMinAerosolExtinction = 2e-7;
+}  // namespace
+
+twin::AtmosphereParameters make_atmosphere_parameters(const AtmosphereSettings& s, double bottom_radius_m,
+                                                      double sun_distance_au) {
+  twin::AtmosphereParameters atm{};
+  atm.bottom_radius_m = static_cast<float>(bottom_radius_m);
+  atm.top_radius_m = static_cast<float>(bottom_radius_m + kAtmosphereThicknessM);
+  atm.rayleigh_scattering = glm::vec3(kRayleighScattering);
+  atm.rayleigh_scale_height_m = 8000.0f;
+
+  const double total_550 = std::log(20.0) / s.visibility_m;
+  const double aerosol_550 = std::max(total_550 - kRayleighScattering.y, kMinAerosolExtinction);
+  glm::dvec3 aerosol_ext;
+  for (int c = 0; c < 3; ++c) aerosol_ext[c] = aerosol_550 * std::pow(kWavelengthsNm[c] / 550.0, -kAngstromExponent);
+  atm.mie_extinction = glm::vec3(aerosol_ext);
+  atm.mie_scattering = glm::vec3(aerosol_ext * kAerosolSingleScatteringAlbedo);
+  atm.mie_scale_height_m = static_cast<float>(s.aerosol_scale_height_m);
+  atm.mie_g = 0.8f;
+
+  atm.ozone_absorption = glm::vec3(kOzoneAbsorption);
+  atm.ozone_center_m = 25000.0f;
+  atm.ozone_half_width_m = 15000.0f;
+
+  atm.sun_illuminance_lux = glm::vec3(static_cast<float>(kSunIlluminanceAt1AuLux / (sun_distance_au * sun_distance_au)));
+  atm.sun_angular_radius = static_cast<float>(kSunAngularRadiusRad);
+  atm.ground_albedo = glm::vec3(static_cast<float>(s.ground_albedo));
+  return atm;
+}
+
+twin::TransmittanceTable compute_transmittance_table(const twin::AtmosphereParameters& atm, int width,
+                                                     int height, int integration_steps) {
+  twin::TransmittanceTable table;
+  table.width = width;
+  table.height = height;
+  table.texels.resize(static_cast<size_t>(width) * height);
+  const double bottom = atm.bottom_radius_m;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      // Texel centre -> unit coordinates -> (r, mu): the inverse of the lookup.
+      glm::vec2 unit((x + 0.5f - 0.5f) / (width - 1.0f), (y + 0.5f - 0.5f) / (height - 1.0f));
+      glm::vec2 r_mu = twin::transmittance_r_mu_from_unit(atm, unit);
+      const double r = r_mu.x, mu = r_mu.y;
+      const double length = twin::distance_to_top(atm, static_cast<float>(r), static_cast<float>(mu));
+      const double dt = length / integration_steps;
+      glm::dvec3 tau(0.0);
+      for (int i = 0; i < integration_steps; ++i) {
+        double t = (i + 0.5) * dt;
+        double ri = std::sqrt(r * r + t * t + 2.0 * r * mu * t);
+        double altitude = ri - bottom;
+        tau += glm::dvec3(twin::extinction_at(atm, static_cast<float>(altitude))) * dt;
+      }
+      table.texels[static_cast<size_t>(y) * width + x] = glm::vec3(glm::exp(-tau));
+    }
+  }
+  return table;
+}
+
+}  // namespace atmo::core

@@ -1,0 +1,28 @@
+// geodesy.h — WGS84 conversions (GeographicLib) between geodetic latitude /
+// longitude / height, ECEF, and the local east-north-up (ENU) frame.
+// Degrees at this edge (latitude, longitude), metres, ECEF axes: X to 0°N 0°E,
+// Z to the North Pole.
+#pragma once
+
+#include <glm/glm.hpp>
+
+namespace atmo::core {
+
+struct Geodetic {
+  double latitude_deg = 0.0;
+  double longitude_deg = 0.0;
+  double height_m = 0.0;
+};
+
+glm::dvec3 ecef_from_geodetic(const Geodetic& g);
+Geodetic geodetic_from_ecef(const glm::dvec3& ecef_m);
+
+// Columns are the east, north and up unit vectors in ECEF at (lat, lon).
+glm::dmat3 ecef_from_enu(double latitude_deg, double longitude_deg);
+
+// Radius of the sphere tangent to the ellipsoid at this latitude: the Gaussian
+// mean radius of curvature sqrt(M N), metres (6 335 km at the equator to
+// 6 400 km at the poles). The atmosphere is modelled on this sphere.
+double local_earth_radius_m(double latitude_deg);
+
+}  // namespace atmo::core

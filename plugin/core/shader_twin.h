@@ -1,0 +1,47 @@
+// shader_twin.h — compiles shaders/atmosphere/functions.glsl as C++ over GLM,
+// so the CPU evaluates exactly the formulas the GPU runs (one source of truth,
+// in float like the GPU). Texture sampling is emulated by TransmittanceTable,
+// with GL_LINEAR + GL_CLAMP_TO_EDGE semantics.
+#pragma once
+
+#include <glm/glm.hpp>
+#include <vector>
+
+namespace atmo::twin {
+
+using namespace glm;
+
+// Row-major table of RGB transmittance, `width` along u (x_mu), `height` along v (x_r).
+struct TransmittanceTable {
+  int width = 0;
+  int height = 0;
+  std::vector<vec3> texels;
+  const vec3& at(int x, int y) const { return texels[static_cast<size_t>(y) * width + x]; }
+};
+
+// Bilinear filtering with clamp-to-edge, as GL does for texture(sampler2D, uv).
+inline vec3 sample_transmittance(const TransmittanceTable& table, const vec2& uv) {
+  float fx = uv.x * table.width - 0.5f;
+  float fy = uv.y * table.height - 0.5f;
+  int x0 = static_cast<int>(floor(fx));
+  int y0 = static_cast<int>(floor(fy));
+  float ax = fx - x0;
+  float ay = fy - y0;
+  auto cx = [&](int x) { return x < 0 ? 0 : (x >= table.width ? table.width - 1 : x); };
+  auto cy = [&](int y) { return y < 0 ? 0 : (y >= table.height ? table.height - 1 : y); };
+  vec3 a = mix(table.at(cx(x0), cy(y0)), table.at(cx(x0 + 1), cy(y0)), ax);
+  vec3 b = mix(table.at(cx(x0), cy(y0 + 1)), table.at(cx(x0 + 1), cy(y0 + 1)), ax);
+  return mix(a, b, ay);
+}
+
+#define ATMO_FN inline
+#define IN(T) const T&
+#define OUT(T) T&
+#define TRANSMITTANCE_SAMPLER const TransmittanceTable&
+#include "atmosphere/functions.glsl"
+#undef ATMO_FN
+#undef IN
+#undef OUT
+#undef TRANSMITTANCE_SAMPLER
+
+}  // namespace atmo::twin

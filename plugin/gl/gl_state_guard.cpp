@@ -1,0 +1,121 @@
+#include "gl/gl_state_guard.h"
+
+namespace atmo::gl {
+
+namespace {
+GLint get_int(GLenum name) {
+  GLint v = 0;
+  glGetIntegerv(name, &v);
+  return v;
+}
+void set_enabled(GLenum cap, GLboolean on) {
+  if (on) glEnable(cap); else glDisable(cap);
+}
+}  // namespace
+
+GlStateGuard::GlStateGuard(int units) : units_(units < kMaxUnits ? units : kMaxUnits) {
+  program_ = get_int(GL_CURRENT_PROGRAM);
+  vao_ = get_int(GL_VERTEX_ARRAY_BINDING);
+  array_buffer_ = get_int(GL_ARRAY_BUFFER_BINDING);
+  unpack_buffer_ = get_int(GL_PIXEL_UNPACK_BUFFER_BINDING);
+  unpack_alignment_ = get_int(GL_UNPACK_ALIGNMENT);
+  unpack_row_length_ = get_int(GL_UNPACK_ROW_LENGTH);
+  active_texture_ = get_int(GL_ACTIVE_TEXTURE);
+  for (int u = 0; u < units_; ++u) {
+    glActiveTexture(GL_TEXTURE0 + u);
+    textures_[u] = get_int(GL_TEXTURE_BINDING_2D);
+    samplers_[u] = get_int(GL_SAMPLER_BINDING);
+  }
+  glActiveTexture(static_cast<GLenum>(active_texture_));
+  glGetIntegerv(GL_VIEWPORT, viewport_);
+  depth_test_ = glIsEnabled(GL_DEPTH_TEST);
+  blend0_ = glIsEnabledi(GL_BLEND, 0);
+  cull_ = glIsEnabled(GL_CULL_FACE);
+  stencil_ = glIsEnabled(GL_STENCIL_TEST);
+  scissor_ = glIsEnabled(GL_SCISSOR_TEST);
+  rasterizer_discard_ = glIsEnabled(GL_RASTERIZER_DISCARD);
+  for (int i = 0; i < 8; ++i) clip_distance_[i] = glIsEnabled(GL_CLIP_DISTANCE0 + i);
+  glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask_);
+  glGetBooleani_v(GL_COLOR_WRITEMASK, 0, color_mask_);
+  glGetIntegeri_v(GL_BLEND_SRC_RGB, 0, &blend_src_rgb_);
+  glGetIntegeri_v(GL_BLEND_DST_RGB, 0, &blend_dst_rgb_);
+  glGetIntegeri_v(GL_BLEND_SRC_ALPHA, 0, &blend_src_alpha_);
+  glGetIntegeri_v(GL_BLEND_DST_ALPHA, 0, &blend_dst_alpha_);
+  glGetIntegeri_v(GL_BLEND_EQUATION_RGB, 0, &blend_eq_rgb_);
+  glGetIntegeri_v(GL_BLEND_EQUATION_ALPHA, 0, &blend_eq_alpha_);
+  polygon_mode_[0] = polygon_mode_[1] = GL_FILL;
+  glGetIntegerv(GL_POLYGON_MODE, polygon_mode_);  // core returns one value, compatibility two
+  draw_fbo_ = get_int(GL_DRAW_FRAMEBUFFER_BINDING);
+  draw_buffer_count_ = 0;
+  draw_buffers_changed_ = false;
+
+  // The baseline every pass draws with.
+  glDisable(GL_DEPTH_TEST);
+  glDepthMask(GL_FALSE);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_RASTERIZER_DISCARD);
+  for (int i = 0; i < 8; ++i) glDisable(GL_CLIP_DISTANCE0 + i);
+  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+}
+
+void GlStateGuard::use_single_draw_buffer() {
+  if (draw_fbo_ == 0) return;
+  GLint max_buffers = get_int(GL_MAX_DRAW_BUFFERS);
+  draw_buffer_count_ = max_buffers < kMaxDrawBuffers ? max_buffers : kMaxDrawBuffers;
+  bool more_than_one = false;
+  for (int i = 0; i < draw_buffer_count_; ++i) {
+    draw_buffers_[i] = get_int(GL_DRAW_BUFFER0 + i);
+    if (i > 0 && draw_buffers_[i] != GL_NONE) more_than_one = true;
+  }
+  if (!more_than_one) return;
+  GLenum first = static_cast<GLenum>(draw_buffers_[0]);
+  glDrawBuffers(1, &first);
+  draw_buffers_changed_ = true;
+}
+
+GlStateGuard::~GlStateGuard() {
+  if (draw_buffers_changed_) {
+    GLenum buffers[kMaxDrawBuffers];
+    for (int i = 0; i < draw_buffer_count_; ++i) buffers[i] = static_cast<GLenum>(draw_buffers_[i]);
+    glDrawBuffers(draw_buffer_count_, buffers);
+  }
+  glUseProgram(static_cast<GLuint>(program_));
+  glBindVertexArray(static_cast<GLuint>(vao_));
+  glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(array_buffer_));
+  glBindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(unpack_buffer_));
+  glPixelStorei(GL_UNPACK_ALIGNMENT, unpack_alignment_);
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, unpack_row_length_);
+  for (int u = 0; u < units_; ++u) {
+    glActiveTexture(GL_TEXTURE0 + u);
+    glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(textures_[u]));
+    glBindSampler(static_cast<GLuint>(u), static_cast<GLuint>(samplers_[u]));
+  }
+  glActiveTexture(static_cast<GLenum>(active_texture_));
+  glViewport(viewport_[0], viewport_[1], viewport_[2], viewport_[3]);
+  set_enabled(GL_DEPTH_TEST, depth_test_);
+  if (blend0_) glEnablei(GL_BLEND, 0); else glDisablei(GL_BLEND, 0);
+  set_enabled(GL_CULL_FACE, cull_);
+  set_enabled(GL_STENCIL_TEST, stencil_);
+  set_enabled(GL_SCISSOR_TEST, scissor_);
+  set_enabled(GL_RASTERIZER_DISCARD, rasterizer_discard_);
+  for (int i = 0; i < 8; ++i) set_enabled(GL_CLIP_DISTANCE0 + i, clip_distance_[i]);
+  glDepthMask(depth_mask_);
+  glColorMaski(0, color_mask_[0], color_mask_[1], color_mask_[2], color_mask_[3]);
+  glBlendFuncSeparatei(0, static_cast<GLenum>(blend_src_rgb_), static_cast<GLenum>(blend_dst_rgb_),
+                       static_cast<GLenum>(blend_src_alpha_), static_cast<GLenum>(blend_dst_alpha_));
+  glBlendEquationSeparatei(0, static_cast<GLenum>(blend_eq_rgb_), static_cast<GLenum>(blend_eq_alpha_));
+  if (polygon_mode_[0] == polygon_mode_[1]) {
+    glPolygonMode(GL_FRONT_AND_BACK, static_cast<GLenum>(polygon_mode_[0]));
+  } else {  // compatibility profile with different front/back modes
+    glPolygonMode(GL_FRONT, static_cast<GLenum>(polygon_mode_[0]));
+    glPolygonMode(GL_BACK, static_cast<GLenum>(polygon_mode_[1]));
+  }
+}
+
+}  // namespace atmo::gl

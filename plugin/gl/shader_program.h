@@ -1,0 +1,20 @@
+// shader_program.h — builds GL programs from the shaders embedded in the
+// plugin (shaders/ at build time), resolving `#include "path"` lines, which
+// GLSL itself lacks, and prepending the #version line.
+#pragma once
+
+#include <glad/gl.h>
+
+#include <string>
+#include <string_view>
+
+namespace atmo::gl {
+
+// Returns the embedded source with includes expanded; empty + *error if a file is missing.
+std::string expand_shader_source(std::string_view path, std::string* error);
+
+// Compiles and links a vertex + fragment program; 0 and *error (with the
+// compiler log and file names) on failure.
+GLuint build_program(std::string_view vertex_path, std::string_view fragment_path, std::string* error);
+
+}  // namespace atmo::gl

@@ -1,0 +1,20 @@
+// Aerial perspective: host colour * transmittance + in-scattered light along
+// the view ray up to the host's geometry. Dual-source blending does the
+// multiply: blend(ONE, SRC1_COLOR) with out_transmittance as source 1.
+#include "atmosphere/pass_common.glsl"
+
+layout(location = 0, index = 0) out vec4 out_inscattered;
+layout(location = 0, index = 1) out vec4 out_transmittance;
+
+void main() {
+  vec4 p = view_point_from_depth(u_view_from_clip, ndc_xy(), host_depth(), u_depth_convention, u_log_far_m,
+                                 u_log_coefficient);
+  if (p.w < 0.0f) discard;  // sky: nothing to haze
+  float distance_m = length(p.xyz);
+  vec3 dir = normalize(u_enu_from_view * (p.xyz / max(distance_m, 1e-6f)));
+  float altitude = max(u_eye_altitude_m, 1.0f);
+  ScatteringResult s = integrate_single_scattering(u_atmosphere, u_transmittance, u_transmittance_size, altitude,
+                                                   dir, u_sun_direction_enu, distance_m, u_steps);
+  out_inscattered = vec4(encode_output(s.inscattered), 0.0f);
+  out_transmittance = vec4(s.transmittance, 1.0f);
+}

@@ -1,0 +1,274 @@
+// functions.glsl — the atmosphere model's functions, ONE source for two
+// compilers: the GLSL passes #include it, and plugin/core/shader_twin.h
+// compiles it as C++ over GLM (the CPU twin), so tests compare the GPU image
+// with the very same formulas evaluated on the CPU.
+//
+// Rules that keep it valid in both languages: functions start with ATMO_FN
+// (`inline` in C++, nothing in GLSL); float literals carry an `f`
+// suffix (GLSL >= 1.30 accepts it); parameters are declared IN(type) /
+// OUT(type); textures are sampled only through the helpers below.
+//
+// Frame and units: every position is relative to the EYE, in metres, in the
+// east-north-up (ENU) axes at the eye. The planet is a sphere of radius
+// bottom_radius_m whose centre is at (0, 0, -(bottom_radius_m + eye_altitude_m)),
+// so the sphere is tangent to the WGS84 ellipsoid below the eye. Radiance is
+// in cd/m^2 (photometric, linear Rec.709 primaries): the sun is given by its
+// illuminance in lux, and scattering coefficients are per metre.
+
+struct AtmosphereParameters {
+  float bottom_radius_m;        // planet radius at the eye (WGS84 mean radius of curvature)
+  float top_radius_m;           // top of the atmosphere
+  vec3 rayleigh_scattering;     // sea-level Rayleigh scattering, 1/m, per channel
+  float rayleigh_scale_height_m;
+  vec3 mie_scattering;          // sea-level aerosol scattering, 1/m
+  vec3 mie_extinction;          // sea-level aerosol extinction, 1/m
+  float mie_scale_height_m;
+  float mie_g;                  // Cornette-Shanks asymmetry
+  vec3 ozone_absorption;        // peak ozone absorption, 1/m
+  float ozone_center_m;         // altitude of the ozone peak
+  float ozone_half_width_m;     // tent profile half width
+  vec3 sun_illuminance_lux;     // at the top of the atmosphere, per channel
+  float sun_angular_radius;     // radians
+  vec3 ground_albedo;           // Lambertian
+};
+
+const float ATMO_PI = 3.14159265358979f;
+
+// --- Geometry --------------------------------------------------------------
+
+// Distance along a unit ray from p to the sphere of `radius` around the origin
+// (far hit); negative if the ray misses it.
+ATMO_FN float ray_sphere_far(IN(vec3) p, IN(vec3) dir, float radius) {
+  float b = dot(p, dir);
+  float c = dot(p, p) - radius * radius;
+  float disc = b * b - c;
+  if (disc < 0.0f) return -1.0f;
+  return -b + sqrt(disc);
+}
+
+// Distance to the near hit of the sphere, negative if missed or behind.
+ATMO_FN float ray_sphere_near(IN(vec3) p, IN(vec3) dir, float radius) {
+  float b = dot(p, dir);
+  float c = dot(p, p) - radius * radius;
+  float disc = b * b - c;
+  if (disc < 0.0f) return -1.0f;
+  float t = -b - sqrt(disc);
+  return t;
+}
+
+// --- Media -------------------------------------------------------------------
+
+ATMO_FN float rayleigh_density(IN(AtmosphereParameters) atm, float altitude_m) {
+  return exp(-max(altitude_m, 0.0f) / atm.rayleigh_scale_height_m);
+}
+
+ATMO_FN float mie_density(IN(AtmosphereParameters) atm, float altitude_m) {
+  return exp(-max(altitude_m, 0.0f) / atm.mie_scale_height_m);
+}
+
+ATMO_FN float ozone_density(IN(AtmosphereParameters) atm, float altitude_m) {
+  return max(0.0f, 1.0f - abs(altitude_m - atm.ozone_center_m) / atm.ozone_half_width_m);
+}
+
+ATMO_FN vec3 extinction_at(IN(AtmosphereParameters) atm, float altitude_m) {
+  return atm.rayleigh_scattering * rayleigh_density(atm, altitude_m) +
+         atm.mie_extinction * mie_density(atm, altitude_m) +
+         atm.ozone_absorption * ozone_density(atm, altitude_m);
+}
+
+// --- Phase functions (1/sr) --------------------------------------------------
+
+ATMO_FN float rayleigh_phase(float cos_theta) {
+  return 3.0f / (16.0f * ATMO_PI) * (1.0f + cos_theta * cos_theta);
+}
+
+// Cornette-Shanks: Henyey-Greenstein improved to have the Rayleigh limit at g = 0.
+ATMO_FN float mie_phase(float g, float cos_theta) {
+  float g2 = g * g;
+  float k = 3.0f / (8.0f * ATMO_PI) * (1.0f - g2) / (2.0f + g2);
+  float denom = max(1.0f + g2 - 2.0f * g * cos_theta, 1e-6f);
+  return k * (1.0f + cos_theta * cos_theta) / (denom * sqrt(denom));
+}
+
+// --- Transmittance lookup table ----------------------------------------------
+// T(r, mu) from a point at radius r, direction cosine mu with the zenith, to
+// the top of the atmosphere. Parametrisation: x_r = rho / H, x_mu = (d - d_min)
+// / (d_max - d_min), with H the horizon distance at the ground, rho at r, and d
+// the distance to the top; it spends texels where the table varies fast.
+
+ATMO_FN float clamp_cosine(float mu) { return clamp(mu, -1.0f, 1.0f); }
+
+ATMO_FN float distance_to_top(IN(AtmosphereParameters) atm, float r, float mu) {
+  float disc = r * r * (mu * mu - 1.0f) + atm.top_radius_m * atm.top_radius_m;
+  return max(-r * mu + sqrt(max(disc, 0.0f)), 0.0f);
+}
+
+ATMO_FN vec2 transmittance_uv_from_r_mu(IN(AtmosphereParameters) atm, float r, float mu, IN(vec2) lut_size) {
+  float H = sqrt(atm.top_radius_m * atm.top_radius_m - atm.bottom_radius_m * atm.bottom_radius_m);
+  float rho = sqrt(max(r * r - atm.bottom_radius_m * atm.bottom_radius_m, 0.0f));
+  rho = min(rho, H);
+  float d = distance_to_top(atm, r, mu);
+  float d_min = atm.top_radius_m - r;
+  float d_max = rho + H;
+  float x_mu = clamp((d - d_min) / max(d_max - d_min, 1e-3f), 0.0f, 1.0f);
+  float x_r = rho / H;
+  // Texel centres at the table's edges.
+  return vec2(0.5f / lut_size.x + x_mu * (1.0f - 1.0f / lut_size.x),
+              0.5f / lut_size.y + x_r * (1.0f - 1.0f / lut_size.y));
+}
+
+// Inverse of the mapping above, used to fill the table (x in [0,1]^2, texel centres removed).
+ATMO_FN vec2 transmittance_r_mu_from_unit(IN(AtmosphereParameters) atm, IN(vec2) x) {
+  float H = sqrt(atm.top_radius_m * atm.top_radius_m - atm.bottom_radius_m * atm.bottom_radius_m);
+  float rho = H * x.y;
+  float r = sqrt(rho * rho + atm.bottom_radius_m * atm.bottom_radius_m);
+  float d_min = atm.top_radius_m - r;
+  float d_max = rho + H;
+  float d = d_min + x.x * (d_max - d_min);
+  float mu = d == 0.0f ? 1.0f : (H * H - rho * rho - d * d) / (2.0f * r * d);
+  return vec2(r, clamp_cosine(mu));
+}
+
+// Transmittance from a point at radius r towards the sun (direction cosine
+// mu_s), including the Earth's shadow smoothed over the sun's disc.
+ATMO_FN vec3 transmittance_to_sun(IN(AtmosphereParameters) atm, TRANSMITTANCE_SAMPLER lut, IN(vec2) lut_size,
+                          float r, float mu_s) {
+  float sin_h = atm.bottom_radius_m / r;
+  float cos_h = -sqrt(max(1.0f - sin_h * sin_h, 0.0f));
+  float visible = smoothstep(-sin_h * atm.sun_angular_radius, sin_h * atm.sun_angular_radius, mu_s - cos_h);
+  return sample_transmittance(lut, transmittance_uv_from_r_mu(atm, r, mu_s, lut_size)) * visible;
+}
+
+// --- Single scattering along a view ray -------------------------------------
+
+struct ScatteringResult {
+  vec3 inscattered;    // cd/m^2 reaching the eye from the segment
+  vec3 transmittance;  // along the segment
+};
+
+// Integrates single scattering (Rayleigh + Mie) from the eye along `dir` over
+// [0, max_distance] clipped to the atmosphere, with `steps` samples placed
+// denser near the eye. altitude of the eye in metres (>= 0 for sampling).
+ATMO_FN ScatteringResult integrate_single_scattering(IN(AtmosphereParameters) atm, TRANSMITTANCE_SAMPLER lut,
+                                             IN(vec2) lut_size, float eye_altitude_m, IN(vec3) dir,
+                                             IN(vec3) sun_dir, float max_distance, int steps) {
+  ScatteringResult result;
+  result.inscattered = vec3(0.0f);
+  result.transmittance = vec3(1.0f);
+  vec3 center = vec3(0.0f, 0.0f, -(atm.bottom_radius_m + eye_altitude_m));
+  vec3 eye_from_center = -center;
+
+  // Enter the atmosphere if the eye is above it.
+  float t_start = 0.0f;
+  float r_eye = length(eye_from_center);
+  if (r_eye > atm.top_radius_m) {
+    t_start = ray_sphere_near(eye_from_center, dir, atm.top_radius_m);
+    if (t_start < 0.0f) return result;  // looks past the atmosphere
+  }
+  float t_top = ray_sphere_far(eye_from_center, dir, atm.top_radius_m);
+  float t_ground = ray_sphere_near(eye_from_center, dir, atm.bottom_radius_m);
+  float t_end = t_top;
+  if (t_ground > 0.0f) t_end = min(t_end, t_ground);
+  t_end = min(t_end, max_distance);
+  if (t_end <= t_start) return result;
+
+  float cos_theta = dot(dir, sun_dir);
+  float phase_r = rayleigh_phase(cos_theta);
+  float phase_m = mie_phase(atm.mie_g, cos_theta);
+
+  vec3 optical_depth = vec3(0.0f);
+  float t_prev = t_start;
+  float span = t_end - t_start;
+  for (int i = 0; i < steps; ++i) {
+    // Quadratic spacing: fine near the eye where density changes fastest.
+    float s1 = (float(i) + 1.0f) / float(steps);
+    float s0 = float(i) / float(steps);
+    float sm = 0.5f * (s0 + s1);
+    float t = t_start + span * sm * sm;
+    float t_next = t_start + span * s1 * s1;
+    float dt = t_next - t_prev;
+    t_prev = t_next;
+
+    vec3 p = eye_from_center + dir * t;
+    float r = length(p);
+    float altitude = r - atm.bottom_radius_m;
+    float rd = rayleigh_density(atm, altitude);
+    float md = mie_density(atm, altitude);
+    vec3 sigma_t = atm.rayleigh_scattering * rd + atm.mie_extinction * md +
+                   atm.ozone_absorption * ozone_density(atm, altitude);
+
+    // Midpoint optical depth from the eye to the sample.
+    vec3 tau_mid = optical_depth + sigma_t * (0.5f * dt);
+    vec3 t_view = exp(-tau_mid);
+    float mu_s = dot(p, sun_dir) / r;
+    vec3 t_sun = transmittance_to_sun(atm, lut, lut_size, r, mu_s);
+    vec3 scatter = atm.rayleigh_scattering * (rd * phase_r) + atm.mie_scattering * (md * phase_m);
+    result.inscattered += t_view * t_sun * scatter * dt;
+    optical_depth += sigma_t * dt;
+  }
+  result.transmittance = exp(-optical_depth);
+  result.inscattered *= atm.sun_illuminance_lux;
+  return result;
+}
+
+// Radiance of the Lambertian ground seen at distance t_ground along dir, lit by
+// the transmitted sun (a crude sky term is added by the caller if wanted).
+ATMO_FN vec3 ground_radiance(IN(AtmosphereParameters) atm, TRANSMITTANCE_SAMPLER lut, IN(vec2) lut_size,
+                     float eye_altitude_m, IN(vec3) dir, IN(vec3) sun_dir, float t_ground) {
+  vec3 center = vec3(0.0f, 0.0f, -(atm.bottom_radius_m + eye_altitude_m));
+  vec3 p = dir * t_ground - center;
+  vec3 normal = normalize(p);
+  float mu_s = dot(normal, sun_dir);
+  vec3 t_sun = transmittance_to_sun(atm, lut, lut_size, atm.bottom_radius_m, mu_s);
+  return atm.ground_albedo / ATMO_PI * atm.sun_illuminance_lux * t_sun * max(mu_s, 0.0f);
+}
+
+// Radiance of the sun's disc (cd/m^2) along dir, with limb darkening
+// (Neckel & Labs polynomial fitted per channel is the next issue; here a
+// grey u = 0.6 linear law).
+ATMO_FN vec3 sun_disc_radiance(IN(AtmosphereParameters) atm, IN(vec3) dir, IN(vec3) sun_dir) {
+  float cos_angle = dot(dir, sun_dir);
+  float cos_radius = cos(atm.sun_angular_radius);
+  if (cos_angle < cos_radius) return vec3(0.0f);
+  float sin_radius = sin(atm.sun_angular_radius);
+  float solid_angle = 2.0f * ATMO_PI * (1.0f - cos_radius);
+  float s = clamp(sqrt(max(1.0f - cos_angle * cos_angle, 0.0f)) / sin_radius, 0.0f, 1.0f);
+  float mu = sqrt(max(1.0f - s * s, 0.0f));
+  const float u = 0.6f;
+  float limb = (1.0f - u * (1.0f - mu)) / (1.0f - u / 3.0f);  // mean over the disc is 1
+  return atm.sun_illuminance_lux / solid_angle * limb;
+}
+
+// --- Host depth to distance ---------------------------------------------------
+// depth: the window-space value read from the host's depth texture. convention:
+// 0 standard, 1 reversed [0,1], 2 logarithmic (see atmo.h). Returns the
+// view-space point (camera at origin, looking down -z), or w < 0 for "no
+// geometry" (the far plane / cleared depth).
+ATMO_FN vec4 view_point_from_depth(IN(mat4) view_from_clip, IN(vec2) ndc_xy, float depth, int convention,
+                           float log_far_m, float log_coefficient) {
+  if (convention == 1) {
+    if (depth <= 0.0f) return vec4(0.0f, 0.0f, 0.0f, -1.0f);
+    vec4 p = view_from_clip * vec4(ndc_xy, depth, 1.0f);
+    return vec4(vec3(p) / p.w, 1.0f);
+  }
+  if (depth >= 1.0f) return vec4(0.0f, 0.0f, 0.0f, -1.0f);
+  if (convention == 2) {
+    float w = (exp2(depth * log2(log_coefficient * log_far_m + 1.0f)) - 1.0f) / log_coefficient;
+    vec4 near_point = view_from_clip * vec4(ndc_xy, -1.0f, 1.0f);
+    vec3 ray = vec3(near_point) / near_point.w;
+    return vec4(ray * (w / max(-ray.z, 1e-6f)), 1.0f);
+  }
+  vec4 p = view_from_clip * vec4(ndc_xy, depth * 2.0f - 1.0f, 1.0f);
+  return vec4(vec3(p) / p.w, 1.0f);
+}
+
+// --- Output encoding -----------------------------------------------------------
+
+// Narkowicz 2015 fit of the ACES filmic curve, then the sRGB transfer function.
+ATMO_FN vec3 encode_display_srgb(IN(vec3) exposed) {
+  vec3 x = max(exposed, vec3(0.0f));
+  vec3 mapped = clamp((x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f), vec3(0.0f), vec3(1.0f));
+  vec3 lo = mapped * 12.92f;
+  vec3 hi = 1.055f * pow(mapped, vec3(1.0f / 2.4f)) - 0.055f;
+  return mix(lo, hi, step(vec3(0.0031308f), mapped));
+}

@@ -1,0 +1,42 @@
+// Uniforms and helpers shared by the sky and aerial-perspective passes.
+// Prelude for functions.glsl in GLSL: how parameters and textures are spelled.
+#define ATMO_FN
+#define IN(T) in T
+#define OUT(T) out T
+#define TRANSMITTANCE_SAMPLER sampler2D
+vec3 sample_transmittance(sampler2D lut, vec2 uv) { return texture(lut, uv).rgb; }
+
+#include "atmosphere/functions.glsl"
+
+uniform AtmosphereParameters u_atmosphere;
+uniform sampler2D u_transmittance;
+uniform vec2 u_transmittance_size;
+uniform sampler2D u_depth;        // host depth texture (window-space values)
+uniform int u_has_depth;
+uniform int u_depth_convention;   // AtmoDepthConvention
+uniform float u_log_far_m;
+uniform float u_log_coefficient;
+uniform mat4 u_view_from_clip;    // inverse of the host projection
+uniform mat3 u_enu_from_view;     // camera orientation in ENU at the eye
+uniform vec4 u_viewport;          // x, y, width, height in pixels
+uniform float u_eye_altitude_m;
+uniform vec3 u_sun_direction_enu;
+uniform float u_exposure;
+uniform int u_output_encoding;    // AtmoOutputEncoding
+uniform int u_steps;
+
+vec2 ndc_xy() { return (gl_FragCoord.xy - u_viewport.xy) / u_viewport.zw * 2.0f - 1.0f; }
+
+float host_depth() { return texelFetch(u_depth, ivec2(gl_FragCoord.xy), 0).r; }
+
+// View ray through this pixel, in view space (camera looks down -z).
+vec3 view_ray() {
+  float near_z = u_depth_convention == 1 ? 1.0f : -1.0f;
+  vec4 p = u_view_from_clip * vec4(ndc_xy(), near_z, 1.0f);
+  return normalize(p.xyz / p.w);
+}
+
+vec3 encode_output(vec3 radiance_cd_m2) {
+  vec3 exposed = radiance_cd_m2 * u_exposure;
+  return u_output_encoding == 1 ? encode_display_srgb(exposed) : exposed;
+}
