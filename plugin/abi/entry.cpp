@@ -346,7 +346,7 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
                   "AtmoViewState.depth_texture = " + std::to_string(view->state.depth_texture) +
                       " is not a texture in the current GL context");
     }
-    atmo::abi::SceneInputs scene = atmo::abi::prepare_scene(ctx, *view);
+    atmo::core::Scene scene = atmo::abi::prepare_scene(ctx, *view);
     if (ctx->uploaded_lut_version != ctx->lut_version) {
       ctx->renderer.upload_transmittance(ctx->lut);
       ctx->uploaded_lut_version = ctx->lut_version;
@@ -370,7 +370,7 @@ AtmoResult get_lighting(AtmoView view_handle, AtmoLighting* out) {
     if (e.code) return fail(ctx, "get_lighting", e);
     if (!ctx->have_frame) return fail(ctx, ATMO_ERROR_CALL_OUT_OF_ORDER, "get_lighting", "set_frame has not been called");
     if (!view->have_state) return fail(ctx, ATMO_ERROR_CALL_OUT_OF_ORDER, "get_lighting", "set_view has not been called");
-    atmo::abi::SceneInputs scene = atmo::abi::prepare_scene(ctx, *view);
+    atmo::core::Scene scene = atmo::abi::prepare_scene(ctx, *view);
     const glm::dvec3& enu = scene.sun_direction_enu;
     for (int i = 0; i < 3; ++i) {
       l.sun_direction_ecef[i] = scene.sun_direction_ecef[i];

@@ -30,10 +30,10 @@ struct AtmoContext_T {
 
   // The transmittance table for the last (settings, radius) it was built for.
   struct LutKey {
-    double visibility_m = -1, aerosol_scale_height_m = -1, ground_albedo = -1, radius_m = -1;
+    double visibility_m = -1, aerosol_scale_height_m = -1, radius_m = -1;
     bool operator==(const LutKey& o) const {
       return visibility_m == o.visibility_m && aerosol_scale_height_m == o.aerosol_scale_height_m &&
-             ground_albedo == o.ground_albedo && radius_m == o.radius_m;
+             radius_m == o.radius_m;
     }
   };
   LutKey lut_key;

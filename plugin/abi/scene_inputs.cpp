@@ -1,40 +1,21 @@
 #include "abi/scene_inputs.h"
 
-#include <algorithm>
-#include <cmath>
-
 #include "abi/validation.h"
-#include "core/solar_position.h"
 
 namespace atmo::abi {
 
-namespace {
-// The sphere radius is rounded so channels at nearby latitudes share a table;
-// 10 km is 0.16 % of the radius.
-constexpr double kRadiusQuantumM = 10000.0;
-}
-
-SceneInputs prepare_scene(AtmoContext_T* c, const AtmoView_T& view) {
-  SceneInputs s;
-  const double radius = std::round(core::local_earth_radius_m(view.eye.eye.latitude_deg) / kRadiusQuantumM) *
-                        kRadiusQuantumM;
-  core::SunPosition sun = core::solar_position(c->utc_posix_s, c->dut1_s);
-  s.atmosphere = core::make_atmosphere_parameters(c->atmosphere, radius, sun.distance_au);
-
-  AtmoContext_T::LutKey key{c->atmosphere.visibility_m, c->atmosphere.aerosol_scale_height_m,
-                            c->atmosphere.ground_albedo, radius};
+core::Scene prepare_scene(AtmoContext_T* c, const AtmoView_T& view) {
+  core::Scene s = core::make_scene(c->atmosphere, c->utc_posix_s, c->dut1_s, view.eye);
+  AtmoContext_T::LutKey key{c->atmosphere.visibility_m, c->atmosphere.aerosol_scale_height_m, s.sphere_radius_m};
   if (!(key == c->lut_key)) {
     c->lut = core::compute_transmittance_table(s.atmosphere, core::kTransmittanceWidth, core::kTransmittanceHeight);
     c->lut_key = key;
     ++c->lut_version;
   }
-  s.sun_direction_ecef = sun.direction_ecef;
-  s.sun_direction_enu = core::enu_from_ecef_direction(view.eye, sun.direction_ecef);
-  s.eye_altitude_m = std::max(view.eye.eye.height_m, 1.0);
   return s;
 }
 
-gl::PassInputs make_pass_inputs(const SceneInputs& scene, const AtmoView_T& view) {
+gl::PassInputs make_pass_inputs(const core::Scene& scene, const AtmoView_T& view) {
   gl::PassInputs in;
   const AtmoViewState& v = view.state;
   in.atmosphere = scene.atmosphere;

@@ -1,24 +1,18 @@
-// scene_inputs.h — turns the host's state (context + view) into the numbers a
-// pass or the lighting query needs: atmosphere parameters on the sphere under
-// the eye, the sun in ENU at the eye, and the transmittance table (rebuilt on
-// the CPU only when the air or the sphere radius changes). No GL.
+// scene_inputs.h — the context's cached transmittance table (rebuilt on the
+// CPU only when the air or the model sphere changes) and the PassInputs a GL
+// pass draws with. No GL.
 #pragma once
 
 #include "abi/objects.h"
+#include "core/scene.h"
 #include "gl/renderer.h"
 
 namespace atmo::abi {
 
-struct SceneInputs {
-  twin::AtmosphereParameters atmosphere;
-  glm::dvec3 sun_direction_ecef{0.0, 0.0, 1.0};
-  glm::dvec3 sun_direction_enu{0.0, 0.0, 1.0};
-  double eye_altitude_m = 0.0;  // above the model sphere, clamped to >= 1 m
-};
+// The scene of a view, with the context's table brought up to date for it.
+// Needs context->have_frame and view.have_state.
+core::Scene prepare_scene(AtmoContext_T* context, const AtmoView_T& view);
 
-// Needs context->have_frame and view->have_state.
-SceneInputs prepare_scene(AtmoContext_T* context, const AtmoView_T& view);
-
-gl::PassInputs make_pass_inputs(const SceneInputs& scene, const AtmoView_T& view);
+gl::PassInputs make_pass_inputs(const core::Scene& scene, const AtmoView_T& view);
 
 }  // namespace atmo::abi

@@ -262,6 +262,29 @@ ATMO_FN vec4 view_point_from_depth(IN(mat4) view_from_clip, IN(vec2) ndc_xy, flo
   return vec4(vec3(p) / p.w, 1.0f);
 }
 
+// --- Whole pixels: what the passes compute, callable from the CPU twin -------
+
+// View ray through a pixel, view space (camera looks down -z), from the
+// inverse projection: the near-plane point (NDC z = -1, or +1 for reversed Z).
+ATMO_FN vec3 view_ray_from_ndc(IN(mat4) view_from_clip, IN(vec2) ndc_xy, int convention) {
+  float near_z = convention == 1 ? 1.0f : -1.0f;
+  vec4 p = view_from_clip * vec4(ndc_xy, near_z, 1.0f);
+  return normalize(vec3(p) / p.w);
+}
+
+// Sky radiance (cd/m^2) along an ENU direction: in-scattering to the top of
+// the atmosphere, plus the sun's disc, or the lit ground where the ray meets
+// the Earth. eye_altitude_m must be >= 1.
+ATMO_FN vec3 sky_radiance(IN(AtmosphereParameters) atm, TRANSMITTANCE_SAMPLER lut, IN(vec2) lut_size,
+                          float eye_altitude_m, IN(vec3) dir, IN(vec3) sun_dir, int steps) {
+  ScatteringResult s = integrate_single_scattering(atm, lut, lut_size, eye_altitude_m, dir, sun_dir, 1e12f, steps);
+  vec3 center = vec3(0.0f, 0.0f, -(atm.bottom_radius_m + eye_altitude_m));
+  float t_ground = ray_sphere_near(-center, dir, atm.bottom_radius_m);
+  vec3 behind = t_ground > 0.0f ? ground_radiance(atm, lut, lut_size, eye_altitude_m, dir, sun_dir, t_ground)
+                                : sun_disc_radiance(atm, dir, sun_dir);
+  return s.inscattered + s.transmittance * behind;
+}
+
 // --- Output encoding -----------------------------------------------------------
 
 // Narkowicz 2015 fit of the ACES filmic curve, then the sRGB transfer function.

@@ -29,12 +29,6 @@ vec2 ndc_xy() { return (gl_FragCoord.xy - u_viewport.xy) / u_viewport.zw * 2.0f 
 
 float host_depth() { return texelFetch(u_depth, ivec2(gl_FragCoord.xy), 0).r; }
 
-// View ray through this pixel, in view space (camera looks down -z).
-vec3 view_ray() {
-  float near_z = u_depth_convention == 1 ? 1.0f : -1.0f;
-  vec4 p = u_view_from_clip * vec4(ndc_xy(), near_z, 1.0f);
-  return normalize(p.xyz / p.w);
-}
 
 vec3 encode_output(vec3 radiance_cd_m2) {
   vec3 exposed = radiance_cd_m2 * u_exposure;
