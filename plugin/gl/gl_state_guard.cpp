@@ -85,7 +85,9 @@ GlStateGuard::~GlStateGuard() {
     for (int i = 0; i < draw_buffer_count_; ++i) buffers[i] = static_cast<GLenum>(draw_buffers_[i]);
     glDrawBuffers(draw_buffer_count_, buffers);
   }
+#ifndef ATMO_FAULT_LEAK_GL_STATE  // test-only fault: a plugin that forgets to restore
   glUseProgram(static_cast<GLuint>(program_));
+#endif
   glBindVertexArray(static_cast<GLuint>(vao_));
   glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(array_buffer_));
   glBindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(unpack_buffer_));

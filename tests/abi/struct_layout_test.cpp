@@ -1,0 +1,38 @@
+// Version-1 struct layouts are frozen: a host built against them must keep
+// working. Each size equals the plugin's V1Size, and each field a later
+// version might move is pinned by offset.
+#include <gtest/gtest.h>
+
+#include <cstddef>
+
+#include "abi/struct_io.h"
+
+using atmo::abi::V1Size;
+
+TEST(StructLayout, Version1SizesAreFrozen) {
+  EXPECT_EQ(sizeof(AtmoStructHeader), 16u);
+  EXPECT_EQ(sizeof(AtmoNegotiateInfo), V1Size<AtmoNegotiateInfo>::value);
+  EXPECT_EQ(sizeof(AtmoPluginApi), V1Size<AtmoPluginApi>::value);
+  EXPECT_EQ(sizeof(AtmoHostServices), V1Size<AtmoHostServices>::value);
+  EXPECT_EQ(sizeof(AtmoContextCreateInfo), V1Size<AtmoContextCreateInfo>::value);
+  EXPECT_EQ(sizeof(AtmoViewCreateInfo), V1Size<AtmoViewCreateInfo>::value);
+  EXPECT_EQ(sizeof(AtmoAtmosphereState), V1Size<AtmoAtmosphereState>::value);
+  EXPECT_EQ(sizeof(AtmoFrameState), V1Size<AtmoFrameState>::value);
+  EXPECT_EQ(sizeof(AtmoViewState), V1Size<AtmoViewState>::value);
+  EXPECT_EQ(sizeof(AtmoPassInfo), V1Size<AtmoPassInfo>::value);
+  EXPECT_EQ(sizeof(AtmoLighting), V1Size<AtmoLighting>::value);
+}
+
+TEST(StructLayout, Version1OffsetsAreFrozen) {
+  EXPECT_EQ(offsetof(AtmoPluginApi, result_string), 32u);
+  EXPECT_EQ(offsetof(AtmoPluginApi, get_lighting), 136u);
+  EXPECT_EQ(offsetof(AtmoHostServices, gl_get_proc_address), 72u);
+  EXPECT_EQ(offsetof(AtmoFrameState, utc_posix_s), 24u);
+  EXPECT_EQ(offsetof(AtmoViewState, eye_ecef_m), 24u);
+  EXPECT_EQ(offsetof(AtmoViewState, view_from_world), 96u);
+  EXPECT_EQ(offsetof(AtmoViewState, clip_from_view), 224u);
+  EXPECT_EQ(offsetof(AtmoViewState, viewport), 352u);
+  EXPECT_EQ(offsetof(AtmoViewState, depth_texture), 368u);
+  EXPECT_EQ(offsetof(AtmoViewState, exposure_scale), 400u);
+  EXPECT_EQ(offsetof(AtmoLighting, sun_illuminance_lux), 80u);
+}

@@ -1,0 +1,305 @@
+#include "render_command.h"
+
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "atmo/atmo.hpp"
+#include "atmo_host_scene/camera.h"
+#include "atmo_host_scene/depth_setup.h"
+#include "atmo_host_scene/terrain.h"
+#include "atmo_scenario/scenario.h"
+#include "atmo_support/headless_gl.h"
+#include "atmo_support/image.h"
+#include "atmo_support/image_metrics.h"
+#include "atmo_support/offscreen_target.h"
+
+namespace atmo::render {
+
+namespace {
+
+namespace hs = atmo::host_scene;
+namespace sc = atmo::scenario;
+
+struct PassTiming {
+  std::string name;
+  std::vector<double> ms;  // one per repeat
+  std::string status;      // plugin result of the last frame
+  double median() const {
+    std::vector<double> s = ms;
+    std::sort(s.begin(), s.end());
+    return s.empty() ? 0.0 : s[s.size() / 2];
+  }
+};
+
+hs::DepthConvention depth_of(const sc::Scenario& s, const std::string& override_text) {
+  if (!override_text.empty()) {
+    hs::DepthConvention c;
+    if (!hs::parse_depth_convention(override_text.c_str(), &c))
+      throw std::runtime_error("--depth: '" + override_text + "' is not standard, reversed or logarithmic");
+    return c;
+  }
+  switch (s.render.depth_convention) {
+    case sc::DepthConvention::Standard: return hs::DepthConvention::Standard;
+    case sc::DepthConvention::Logarithmic: return hs::DepthConvention::Logarithmic;
+    default: return hs::DepthConvention::Reversed;
+  }
+}
+
+hs::TerrainOptions terrain_of(const sc::Scenario& s) {
+  hs::TerrainOptions t;
+  if (!s.terrain || s.terrain->kind == sc::TerrainKind::None) {
+    t.kind = hs::TerrainOptions::Kind::None;
+    return t;
+  }
+  t.seed = s.terrain->seed;
+  t.size_m = s.terrain->size_m;
+  t.relief_m = s.terrain->kind == sc::TerrainKind::Flat ? 0.0 : s.terrain->relief_m;
+  t.runway_heading_deg = s.terrain->runway_heading_deg;
+  return t;
+}
+
+hs::Geodetic to_host(const sc::GeodeticPoint& g) { return {g.latitude_deg, g.longitude_deg, g.height_m}; }
+
+// GL timer query around one step of the frame.
+class GpuTimer {
+ public:
+  GpuTimer() { glGenQueries(1, &query_); }
+  ~GpuTimer() { glDeleteQueries(1, &query_); }
+  template <typename F>
+  auto time(F&& f) {
+    glBeginQuery(GL_TIME_ELAPSED, query_);
+    auto r = f();
+    glEndQuery(GL_TIME_ELAPSED);
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
+    last_ms_ = ns * 1e-6;
+    return r;
+  }
+  double last_ms() const { return last_ms_; }
+
+ private:
+  GLuint query_ = 0;
+  double last_ms_ = 0.0;
+};
+
+struct Checks {
+  int passed = 0, failed = 0;
+  nlohmann::json list = nlohmann::json::array();
+  void add(const std::string& name, bool ok, const std::string& detail) {
+    (ok ? passed : failed)++;
+    std::printf("  %s %s: %s\n", ok ? "PASS" : "FAIL", name.c_str(), detail.c_str());
+    list.push_back({{"name", name}, {"passed", ok}, {"detail", detail}});
+  }
+};
+
+std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
+  char buf[256];
+  std::snprintf(buf, sizeof(buf), fmt, a, b, c);
+  return buf;
+}
+
+}  // namespace
+
+int run_render(const Options& options) {
+  sc::LoadResult loaded = sc::load_scenario_file(options.scenario_path);
+  if (!loaded.scenario) {
+    std::fprintf(stderr, "atmo render: %s\n", loaded.error.c_str());
+    return 2;
+  }
+  const sc::Scenario& scenario = *loaded.scenario;
+  // Output files are named after the scenario file (noon_clear_main.png), which is safe in paths.
+  const std::string file_stem = std::filesystem::path(options.scenario_path).stem().string();
+  try {
+    std::filesystem::create_directories(options.out_dir);
+    std::printf("scenario %s: %s (%s UTC, %.4f°, %.4f°, %.0f m)\n", scenario.name.c_str(), scenario.description.c_str(),
+                scenario.utc.c_str(), scenario.location.latitude_deg, scenario.location.longitude_deg,
+                scenario.location.height_m);
+    for (const sc::Notice& n : scenario.not_yet_supported)
+      std::printf("  not yet supported: %s: %s\n", n.path.c_str(), n.message.c_str());
+
+    std::string error;
+    auto gl = support::HeadlessGl::create(support::HeadlessGl::Profile::Core, &error);
+    if (!gl) throw std::runtime_error("no headless OpenGL context: " + error);
+    std::printf("  GL: %s, %s (%s)\n", gl->version().c_str(), gl->renderer().c_str(), gl->platform().c_str());
+
+    AtmoHostServices services = atmo::make<AtmoHostServices>(ATMO_TYPE_HOST_SERVICES);
+    services.gl_get_proc_address = &support::HeadlessGl::get_proc_address;
+    atmo::Plugin plugin(options.plugin_path, "atmo render");
+    atmo::Context context(plugin, &services);
+    context.gl_init();
+
+    auto atmosphere = atmo::make<AtmoAtmosphereState>(ATMO_TYPE_ATMOSPHERE_STATE);
+    atmosphere.visibility_m = scenario.atmosphere.visibility_m;
+    atmosphere.aerosol_scale_height_m = scenario.atmosphere.aerosol_scale_height_m;
+    atmosphere.ground_albedo = std::max(scenario.atmosphere.ground_albedo, 1e-6);
+    context.set_atmosphere(atmosphere);
+    auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+    frame.utc_posix_s = scenario.utc_posix_s;
+    frame.dut1_s = scenario.dut1_s;
+    context.set_frame(frame);
+
+    hs::Terrain terrain(terrain_of(scenario));
+    if (!terrain.gl_init(&error)) throw std::runtime_error("terrain: " + error);
+    const hs::DepthConvention depth = depth_of(scenario, options.depth_override);
+
+    Checks checks;
+    nlohmann::json report = {{"scenario", scenario.name}, {"file", options.scenario_path},
+                             {"depth_convention", hs::to_string(depth)}, {"gl_renderer", gl->renderer()},
+                             {"cameras", nlohmann::json::array()}};
+    const hs::Geodetic origin = to_host(scenario.location);
+    for (size_t ci = 0; ci < scenario.cameras.size(); ++ci) {
+      const sc::Camera& cam = scenario.cameras[ci];
+      auto target = support::OffscreenTarget::create(cam.width, cam.height, &error);
+      if (!target) throw std::runtime_error("offscreen target: " + error);
+      atmo::View view(context, static_cast<uint32_t>(ci));
+
+      hs::ViewSetup setup;
+      setup.world_origin = origin;
+      setup.pose.position_enu_m = cam.position.kind == sc::Position::Kind::Enu
+                                      ? glm::dvec3(cam.position.enu_m[0], cam.position.enu_m[1], cam.position.enu_m[2])
+                                      : hs::enu_from_geodetic(origin, to_host(cam.position.geodetic));
+      setup.pose.heading_deg = cam.heading_deg;
+      setup.pose.pitch_deg = cam.pitch_deg;
+      setup.pose.roll_deg = cam.roll_deg;
+      setup.vfov_rad = glm::radians(cam.vertical_fov_deg);
+      setup.near_m = cam.near_m;
+      setup.far_m = cam.far_m;
+      setup.depth_convention = depth;
+      setup.viewport = {0, 0, cam.width, cam.height};
+      setup.depth_texture = target->depth_texture();
+      setup.output_encoding = ATMO_OUTPUT_LINEAR_HDR;
+      setup.exposure_scale = 1.0;  // the frame holds absolute cd/m^2; exposure is applied when writing the PNG
+      view.set(hs::make_view_state(setup));
+
+      const AtmoLighting lighting = view.lighting();
+      const double sun_elevation_deg = glm::degrees(lighting.sun_elevation_rad);
+      const double ev100 = scenario.render.exposure_ev100 ? *scenario.render.exposure_ev100
+                                                          : sc::auto_exposure_ev100(sun_elevation_deg);
+      const double exposure = hs::exposure_scale_from_ev100(ev100);
+      if (scenario.render.output == sc::OutputEncoding::DisplaySrgb) {
+        setup.output_encoding = ATMO_OUTPUT_DISPLAY_SRGB;
+        setup.exposure_scale = exposure;
+        view.set(hs::make_view_state(setup));
+      }
+      const hs::SceneLighting scene_lighting = hs::lighting_from_atmo(lighting);
+      std::printf("camera %s: %dx%d, sun elevation %.2f°, azimuth %.2f°, EV100 %.1f, depth %s\n", cam.name.c_str(),
+                  cam.width, cam.height, sun_elevation_deg, glm::degrees(lighting.sun_azimuth_rad), ev100,
+                  hs::to_string(depth));
+
+      std::vector<PassTiming> timings = {{"terrain (host)", {}, ""}, {"sky", {}, ""}, {"aerial perspective", {}, ""},
+                                         {"clouds", {}, ""}, {"night sky", {}, ""}, {"light glows", {}, ""}};
+      const AtmoPass passes[] = {ATMO_PASS_SKY, ATMO_PASS_AERIAL_PERSPECTIVE, ATMO_PASS_CLOUDS, ATMO_PASS_NIGHT_SKY,
+                                 ATMO_PASS_LIGHT_GLOWS};
+      GpuTimer timer;
+      for (int rep = 0; rep < options.repeat; ++rep) {
+        target->bind();
+        glClearColor(0, 0, 0, 1);
+        {
+          hs::DepthSetup depth_state(depth);
+          if (!depth_state.ok()) throw std::runtime_error("the GL context lacks glClipControl for reversed depth");
+          glClearDepth(hs::clear_depth_value(depth));
+          glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+          timer.time([&] {
+            terrain.draw(setup, scene_lighting);
+            return 0;
+          });
+          timings[0].ms.push_back(timer.last_ms());
+        }
+        for (size_t p = 0; p < 5; ++p) {
+          AtmoResult r = timer.time([&] { return view.render(passes[p]); });
+          timings[p + 1].ms.push_back(timer.last_ms());
+          timings[p + 1].status = plugin.result_string(r);
+        }
+      }
+      glFinish();
+      support::Image image = target->read_color();
+
+      nlohmann::json cam_report = {{"name", cam.name}, {"width", cam.width}, {"height", cam.height},
+                                   {"sun_elevation_deg", sun_elevation_deg}, {"ev100", ev100}};
+      double frame_ms = 0.0;
+      for (const PassTiming& t : timings) {
+        std::printf("  %-20s %8.2f ms  %s\n", t.name.c_str(), t.median(), t.status.c_str());
+        cam_report["timings_ms"][t.name] = t.median();
+        if (!t.status.empty()) cam_report["status"][t.name] = t.status;
+        frame_ms += t.median();
+      }
+      std::printf("  %-20s %8.2f ms  (GPU time, median of %d frame(s), %s)\n", "frame", frame_ms, options.repeat,
+                  gl->renderer().c_str());
+      cam_report["frame_ms"] = frame_ms;
+
+      const bool linear = scenario.render.output == sc::OutputEncoding::LinearHdr;
+      support::Image display = linear ? support::tone_map_to_display(image, static_cast<float>(exposure)) : image;
+      const std::string stem = (std::filesystem::path(options.out_dir) / (file_stem + "_" + cam.name)).string();
+      if (scenario.outputs.exr) {
+        if (!support::write_exr(stem + ".exr", image, &error)) throw std::runtime_error(error);
+        std::printf("  wrote %s.exr (%s)\n", stem.c_str(), linear ? "linear, cd/m^2" : "display-referred");
+      }
+      if (scenario.outputs.png) {
+        if (!support::write_png(stem + ".png", display, &error)) throw std::runtime_error(error);
+        std::printf("  wrote %s.png\n", stem.c_str());
+      }
+
+      // Expectations.
+      const std::string prefix = cam.name + ": ";
+      if (scenario.expectations.finite) {
+        size_t bad = support::count_nonfinite(image);
+        checks.add(prefix + "finite", bad == 0, std::to_string(bad) + " pixels with NaN/Inf");
+      }
+      for (const sc::LuminanceCheck& lc : scenario.expectations.luminance_checks) {
+        int x = std::clamp(static_cast<int>(lc.u * cam.width), 0, cam.width - 1);
+        int y = std::clamp(static_cast<int>(lc.v * cam.height), 0, cam.height - 1);
+        double lum = support::luminance(image.pixel(x, y));
+        checks.add(prefix + "luminance " + lc.name, lum >= lc.min_cd_m2 && lum <= lc.max_cd_m2,
+                   format("%.4g cd/m^2, expected [%.4g, %.4g]", lum, lc.min_cd_m2, lc.max_cd_m2));
+      }
+      if (scenario.expectations.reference) {
+        const sc::Reference& ref = *scenario.expectations.reference;
+        std::string ref_path = sc::resolve_path(scenario, ref.image);
+        // One reference per scenario: a camera suffix when there are several.
+        if (scenario.cameras.size() > 1) ref_path.insert(ref_path.rfind('.'), "_" + cam.name);
+        support::Image reference;
+        if (!support::read_png(ref_path, &reference, &error)) {
+          checks.add(prefix + "reference image", false, error);
+        } else if (reference.width != cam.width || reference.height != cam.height) {
+          checks.add(prefix + "reference image", false, "size differs from the render");
+        } else {
+          support::Image quantized;
+          std::string png_path = stem + ".png";
+          if (!support::read_png(png_path, &quantized, &error)) quantized = display;
+          auto diff = support::compare_images(quantized, reference, 1.0);
+          checks.add(prefix + "matches " + ref.image, diff.psnr_db >= ref.min_psnr_db,
+                     format("PSNR %.2f dB (display-referred PNG, peak 1), expected >= %.1f dB", diff.psnr_db,
+                            ref.min_psnr_db));
+          cam_report["reference_psnr_db"] = diff.psnr_db;
+        }
+      }
+      if (scenario.expectations.max_frame_ms) {
+        checks.add(prefix + "frame time", frame_ms <= *scenario.expectations.max_frame_ms,
+                   format("%.2f ms, expected <= %.1f ms", frame_ms, *scenario.expectations.max_frame_ms));
+      }
+      report["cameras"].push_back(cam_report);
+    }
+    terrain.gl_shutdown();
+    context.gl_shutdown();
+
+    report["checks"] = checks.list;
+    report["not_yet_supported"] = nlohmann::json::array();
+    for (const sc::Notice& n : scenario.not_yet_supported)
+      report["not_yet_supported"].push_back({{"path", n.path}, {"message", n.message}});
+    std::ofstream(std::filesystem::path(options.out_dir) / (file_stem + "_report.json")) << report.dump(2) << "\n";
+    std::printf("scenario %s: %d passed, %d failed\n", scenario.name.c_str(), checks.passed, checks.failed);
+    return checks.failed == 0 ? 0 : 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "atmo render: %s: %s\n", options.scenario_path.c_str(), e.what());
+    return 2;
+  }
+}
+
+}  // namespace atmo::render

@@ -1,0 +1,22 @@
+// render_command.h — `atmo render SCENARIO --out DIR`: draws a scenario
+// through the real plugin, via the ABI, exactly as a host would; writes EXR
+// (linear, absolute cd/m^2) and PNG (tone-mapped), checks the scenario's
+// expectations and prints per-pass GPU timings.
+#pragma once
+
+#include <string>
+
+namespace atmo::render {
+
+struct Options {
+  std::string scenario_path;
+  std::string out_dir;
+  std::string plugin_path = ATMO_DEFAULT_PLUGIN_PATH;
+  std::string depth_override;  // "", standard, reversed, logarithmic
+  int repeat = 1;
+};
+
+// 0: rendered and every expectation met; 1: an expectation failed; 2: error.
+int run_render(const Options& options);
+
+}  // namespace atmo::render
