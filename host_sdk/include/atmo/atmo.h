@@ -200,7 +200,8 @@ typedef struct AtmoViewCreateInfo {
 typedef struct AtmoAtmosphereState {
   AtmoStructHeader header;   /* ATMO_TYPE_ATMOSPHERE_STATE */
   /* Meteorological optical range (MOR, 5 % contrast threshold) at the ground, metres.
-     Sets the aerosol (Mie) extinction at sea level: beta = 3.0 / MOR minus Rayleigh.
+     Sets the aerosol (Mie) extinction at sea level: beta = ln(20) / MOR = 2.996 / MOR
+     (Koschmieder, 5 % contrast threshold) minus Rayleigh at 550 nm.
      0: default 40 000 m (clear). Valid range [50, 500 000]. */
   double visibility_m;
   /* Aerosol scale height, metres. 0: default 1200 m. Valid range [100, 20 000]. */

@@ -1,0 +1,234 @@
+// Scenario files: JSON descriptions of a test scene (place, time, cameras,
+// atmosphere, ...), loaded and validated into plain structs.
+//
+// The format is config/scenario.schema.json. Units are SI and field names
+// carry them (_m, _deg, _s, _cd, _lux); angles stay in degrees here as they
+// are in the file — convert to radians where they enter the renderer.
+//
+// Validation is hand-written but enforces every rule of the schema, plus the
+// cross-field rules a schema cannot say (far_m > near_m, top_m > base_m,
+// calendar dates, unique camera names). Unknown fields are errors. Each error
+// line reads "<file>: <JSON pointer>: expected ..., found ...".
+#ifndef ATMO_SCENARIO_SCENARIO_H
+#define ATMO_SCENARIO_SCENARIO_H
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace atmo::scenario {
+
+inline constexpr int kSchemaVersion = 1;
+
+// Something in the file that was parsed and validated but that this build
+// cannot draw yet; the runner prints these as "not yet supported".
+struct Notice {
+  std::string path;     // JSON pointer, e.g. "/clouds"
+  std::string message;
+};
+
+// WGS84 geodetic point.
+struct GeodeticPoint {
+  double latitude_deg = 0.0;   // [-90, 90]
+  double longitude_deg = 0.0;  // [-180, 180]
+  double height_m = 0.0;       // above the ellipsoid, [-1000, 1e6]
+};
+
+// A point given either in east-north-up metres from Scenario::location
+// (the ENU origin) or as a geodetic point.
+struct Position {
+  enum class Kind { Enu, Geodetic };
+  Kind kind = Kind::Enu;
+  std::array<double, 3> enu_m{};  // Kind::Enu: east, north, up
+  GeodeticPoint geodetic;         // Kind::Geodetic
+};
+
+struct Camera {
+  std::string name;           // [A-Za-z0-9][A-Za-z0-9_-]{0,63}, unique; names output files
+  Position position;
+  double heading_deg = 0.0;   // [-360, 360]; 0 = north, clockwise
+  double pitch_deg = 0.0;     // [-90, 90]; + looks up
+  double roll_deg = 0.0;      // [-180, 180]; + rolls right side down; default 0
+  double vertical_fov_deg = 60.0;  // (0, 180)
+  int width = 0;              // pixels, [1, 8192]
+  int height = 0;             // pixels, [1, 8192]
+  double near_m = 1.0;        // > 0
+  double far_m = 100000.0;    // > near_m
+};
+
+struct Atmosphere {
+  double visibility_m = 40000.0;          // MOR at the ground, [50, 500000]
+  double aerosol_scale_height_m = 1200.0; // [100, 20000]
+  double ground_albedo = 0.1;             // [0, 1]
+};
+
+enum class TerrainKind { Hills, Flat, None };
+
+// Host-drawn ground (the plugin draws none). Absent: no host geometry.
+struct Terrain {
+  TerrainKind kind = TerrainKind::Hills;
+  std::uint64_t seed = 0;            // [0, 2^53 - 1]
+  double size_m = 20000.0;           // side of the square patch, [100, 200000]
+  double relief_m = 150.0;           // hill height, [0, 5000]
+  bool runway = false;               // a runway centred on the ENU origin
+  double runway_heading_deg = 90.0;  // its true direction, [0, 360]
+};
+
+enum class CloudType { Cumulus, Stratus, Overcast, Cirrus, Vdb };
+
+// Procedural layers use coverage_oktas/base_m/top_m; a Vdb layer uses
+// vdb_file/position/scale instead. Heights are above the ENU origin.
+struct CloudLayer {
+  CloudType type = CloudType::Cumulus;
+  int coverage_oktas = 0;     // [0, 8]
+  double base_m = 0.0;        // [0, 20000]
+  double top_m = 0.0;         // (base_m, 20000]
+  std::uint64_t seed = 0;
+  std::string vdb_file;       // Vdb: as written, relative to the scenario file
+  Position position;          // Vdb: where the grid's origin goes
+  double scale = 1.0;         // Vdb: metres per grid unit, > 0
+};
+
+struct Fog {
+  double visibility_m = 0.0;  // MOR inside the fog, [10, 5000]
+  double top_m = 0.0;         // above the ENU origin, (0, 3000]
+};
+
+struct LightPoint {
+  std::array<double, 3> enu_m{};
+  double intensity_cd = 0.0;                // > 0
+  std::array<double, 3> color{1.0, 1.0, 1.0};  // linear RGB, each [0, 1]
+};
+
+struct Lights {
+  bool runway_approach = false;  // approach lighting of Terrain::runway
+  std::vector<LightPoint> points;
+};
+
+struct NightSky {
+  bool stars = true;
+  bool moon = true;
+};
+
+enum class DepthConvention { Standard, Reversed, Logarithmic };
+enum class OutputEncoding { LinearHdr, DisplaySrgb };
+
+struct Render {
+  DepthConvention depth_convention = DepthConvention::Reversed;
+  std::optional<double> exposure_ev100;  // [-20, 30]; absent: auto_exposure_ev100(sun)
+  OutputEncoding output = OutputEncoding::LinearHdr;
+};
+
+struct Outputs {
+  bool exr = true;
+  bool png = true;
+};
+
+struct Reference {
+  std::string image;              // PNG, as written, relative to the scenario file
+  std::string metric = "psnr_db"; // the only metric so far
+  double min_psnr_db = 0.0;       // > 0
+};
+
+struct LuminanceCheck {
+  std::string name;
+  double u = 0.0;          // [0, 1], left to right
+  double v = 0.0;          // [0, 1], v = 0 is the top row
+  double min_cd_m2 = 0.0;  // >= 0
+  double max_cd_m2 = 0.0;  // >= min_cd_m2
+};
+
+struct Expectations {
+  bool finite = true;  // every output pixel finite
+  std::optional<Reference> reference;
+  std::vector<LuminanceCheck> luminance_checks;
+  std::optional<double> max_frame_ms;  // > 0
+};
+
+// Sections with defaults for every field are plain members, filled in when
+// absent; sections whose absence means "feature off" are optional.
+struct Scenario {
+  int schema_version = kSchemaVersion;
+  std::string name;
+  std::string description;
+  std::string source_file;  // the path or label it was loaded from
+  std::string source_dir;   // base of relative paths in the file ("" = cwd)
+
+  GeodeticPoint location;   // ENU origin of every enu_m in the file
+  std::string utc;          // as written
+  double utc_posix_s = 0.0; // utc as POSIX seconds
+  double dut1_s = 0.0;      // UT1 - UTC, (-1, 1)
+
+  std::vector<Camera> cameras;  // at least one
+  Atmosphere atmosphere;
+  std::optional<Terrain> terrain;
+  std::vector<CloudLayer> clouds;  // not yet supported
+  std::optional<Fog> fog;          // not yet supported
+  std::optional<Lights> lights;    // not yet supported
+  std::optional<NightSky> night_sky;  // not yet supported
+  Render render;
+  Outputs outputs;
+  Expectations expectations;
+
+  std::vector<Notice> not_yet_supported;  // one per such section present
+};
+
+struct LoadResult {
+  std::optional<Scenario> scenario;
+  std::string error;  // empty on success; else one line per problem
+};
+
+// Reads and validates a scenario file; errors are labelled with `path`.
+LoadResult load_scenario_file(const std::string& path);
+
+// Validates JSON text; errors are labelled with `file_label`, whose directory
+// (if any) becomes Scenario::source_dir.
+LoadResult parse_scenario(const std::string& json_text, const std::string& file_label);
+
+// A path written in the scenario (reference image, VDB file) resolved against
+// the scenario file's directory; absolute paths are returned unchanged.
+std::string resolve_path(const Scenario& scenario, const std::string& relative);
+
+// Field names the loader accepts in each kind of object, keyed as in the
+// schema: "scenario" for the top level, else the schema's "$defs" name.
+// Exposed so a test can check that the schema and the loader agree.
+struct ObjectShape {
+  std::string name;
+  std::vector<std::string> fields;
+};
+const std::vector<ObjectShape>& object_shapes();
+const std::vector<std::string>& top_level_fields();
+
+// "YYYY-MM-DDThh:mm:ss[.f...]Z" or with a "+hh:mm"/"-hh:mm" offset, to POSIX
+// seconds (days of 86 400 s, proleptic Gregorian). Years 0000-9999; seconds
+// 00-59 (a leap second has no POSIX time). On failure returns nullopt and,
+// if error is not null, says why.
+std::optional<double> parse_iso8601_utc(const std::string& text, std::string* error);
+
+// Days since 1970-01-01 of a proleptic Gregorian date, and back.
+std::int64_t days_from_civil(std::int64_t year, unsigned month, unsigned day);
+void civil_from_days(std::int64_t days, std::int64_t* year, unsigned* month, unsigned* day);
+bool is_leap_year(std::int64_t year);
+unsigned days_in_month(std::int64_t year, unsigned month);
+
+// POSIX seconds as "YYYY-MM-DDThh:mm:ss[.fff]Z" (milliseconds only when non-zero).
+std::string format_iso8601_utc(double posix_s);
+
+// A sane EV100 when a scenario gives none, from the sun's elevation (deg):
+// a monotone, C1-smooth cubic Hermite (Fritsch-Carlson) curve through
+//   elevation  <= -10   -6   -4    0    10   >= 25
+//   EV100          2    5    8   12    14.3    15
+// flat outside [-10, 25]: 15 in full sun, 12 at sunset, ~8 in civil
+// twilight, 2 at night (stars and moonlight).
+double auto_exposure_ev100(double sun_elevation_deg);
+
+const char* to_string(TerrainKind kind);
+const char* to_string(CloudType type);
+const char* to_string(DepthConvention convention);
+const char* to_string(OutputEncoding encoding);
+
+}  // namespace atmo::scenario
+
+#endif  // ATMO_SCENARIO_SCENARIO_H

@@ -1,0 +1,521 @@
+// Scenario loader. Every object is read through an ObjectReader built from
+// its entry in kShapes, so the accepted field names live in one table that a
+// test compares with the schema's "properties".
+#include "atmo_scenario/scenario.h"
+
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "json_reader.h"
+
+namespace atmo::scenario {
+
+using detail::ObjectReader;
+using detail::Range;
+using nlohmann::json;
+
+namespace {
+
+const std::vector<ObjectShape> kShapes = {
+    {"scenario",
+     {"$schema", "schema_version", "name", "description", "location", "utc", "dut1_s", "cameras",
+      "atmosphere", "terrain", "clouds", "fog", "lights", "night_sky", "render", "outputs",
+      "expectations"}},
+    {"geodetic", {"latitude_deg", "longitude_deg", "height_m"}},
+    {"position", {"enu_m", "geodetic"}},
+    {"camera",
+     {"name", "position", "heading_deg", "pitch_deg", "roll_deg", "vertical_fov_deg", "width",
+      "height", "near_m", "far_m"}},
+    {"atmosphere", {"visibility_m", "aerosol_scale_height_m", "ground_albedo"}},
+    {"terrain", {"kind", "seed", "size_m", "relief_m", "runway", "runway_heading_deg"}},
+    {"cloud_layer",
+     {"type", "coverage_oktas", "base_m", "top_m", "seed", "vdb_file", "position", "scale"}},
+    {"fog", {"visibility_m", "top_m"}},
+    {"lights", {"runway_approach", "points"}},
+    {"light_point", {"enu_m", "intensity_cd", "color"}},
+    {"night_sky", {"stars", "moon"}},
+    {"render", {"depth_convention", "exposure_ev100", "output"}},
+    {"outputs", {"exr", "png"}},
+    {"expectations", {"finite", "reference", "luminance_checks", "max_frame_ms"}},
+    {"reference", {"image", "metric", "min_psnr_db"}},
+    {"luminance_check", {"name", "u", "v", "min_cd_m2", "max_cd_m2"}},
+};
+
+const std::vector<std::string>& shape(const char* name) {
+  for (const auto& s : kShapes) {
+    if (s.name == name) return s.fields;
+  }
+  throw std::logic_error(std::string("atmo_scenario: no shape ") + name);
+}
+
+// Same limits as the schema; keep the two in step.
+constexpr std::int64_t kMaxSeed = 9007199254740991;  // 2^53 - 1: exact in any JSON reader
+const Range kLatitude = Range::closed(-90, 90);
+const Range kLongitude = Range::closed(-180, 180);
+const Range kHeight = Range::closed(-1000, 1e6);
+
+bool camera_name_ok(const std::string& s) {
+  if (s.empty() || s.size() > 64 || !std::isalnum(static_cast<unsigned char>(s[0]))) return false;
+  for (char c : s) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-') return false;
+  }
+  return true;
+}
+
+bool png_name_ok(const std::string& s) {
+  if (s.size() < 4) return false;
+  std::string ext = s.substr(s.size() - 4);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".png";
+}
+
+class Loader {
+ public:
+  explicit Loader(const std::string& file) : errors_(file) {}
+
+  detail::Errors& errors() { return errors_; }
+
+  void scenario(const json& root, Scenario* s) {
+    ObjectReader r(errors_, root, "", shape("scenario"), "scenario");
+    if (!r.valid()) return;
+    r.string("$schema", false, 0);  // editor hint only
+    if (const json* v = r.field("schema_version", true, "1")) {
+      if (!(v->is_number() && v->get<double>() == kSchemaVersion)) {
+        errors_.expected(r.child("schema_version"),
+                         "1 (the schema version this loader reads)", *v);
+      }
+    }
+    if (auto v = r.string("name", true, 1, "a non-empty string")) s->name = *v;
+    if (auto v = r.string("description", false, 0)) s->description = *v;
+    if (const json* v = r.field("location", true, "an object (geodetic point)")) {
+      geodetic(*v, r.child("location"), &s->location);
+    }
+    utc(r, s);
+    if (auto v = r.number("dut1_s", Range::open(-1, 1), 0.0)) s->dut1_s = *v;
+    if (const json* v = r.field("cameras", true, "an array of at least 1 camera")) {
+      cameras(*v, r.child("cameras"), s);
+    }
+    if (const json* v = r.field("atmosphere", false, "")) {
+      atmosphere(*v, r.child("atmosphere"), &s->atmosphere);
+    }
+    if (const json* v = r.field("terrain", false, "")) {
+      terrain(*v, r.child("terrain"), &s->terrain.emplace());
+    }
+    if (const json* v = r.field("clouds", false, "")) {
+      clouds(*v, r.child("clouds"), &s->clouds);
+      s->not_yet_supported.push_back(
+          {r.child("clouds"), std::to_string(s->clouds.size()) +
+                                  " cloud layer(s) validated but not drawn: clouds are not "
+                                  "implemented yet"});
+    }
+    if (const json* v = r.field("fog", false, "")) {
+      fog(*v, r.child("fog"), &s->fog.emplace());
+      s->not_yet_supported.push_back(
+          {r.child("fog"),
+           "fog validated but not drawn: fog layers are not implemented yet "
+           "(atmosphere.visibility_m still applies)"});
+    }
+    if (const json* v = r.field("lights", false, "")) {
+      lights(*v, r.child("lights"), &s->lights.emplace());
+      s->not_yet_supported.push_back(
+          {r.child("lights"),
+           "lights validated but not drawn: light points and glows are not implemented yet"});
+    }
+    if (const json* v = r.field("night_sky", false, "")) {
+      night_sky(*v, r.child("night_sky"), &s->night_sky.emplace());
+      s->not_yet_supported.push_back(
+          {r.child("night_sky"),
+           "night sky validated but not drawn: stars and moon are not implemented yet"});
+    }
+    if (const json* v = r.field("render", false, "")) render(*v, r.child("render"), &s->render);
+    if (const json* v = r.field("outputs", false, "")) outputs(*v, r.child("outputs"), &s->outputs);
+    if (const json* v = r.field("expectations", false, "")) {
+      expectations(*v, r.child("expectations"), &s->expectations);
+    }
+  }
+
+ private:
+  void utc(ObjectReader& r, Scenario* s) {
+    static const std::string kWhat =
+        "an ISO 8601 time \"YYYY-MM-DDThh:mm:ss[.fff]Z\" (or with a \"+hh:mm\" offset)";
+    const json* v = r.field("utc", true, kWhat);
+    if (!v) return;
+    if (!v->is_string()) {
+      errors_.expected(r.child("utc"), kWhat, *v);
+      return;
+    }
+    std::string why;
+    if (auto t = parse_iso8601_utc(v->get<std::string>(), &why)) {
+      s->utc = v->get<std::string>();
+      s->utc_posix_s = *t;
+    } else {
+      // A shape error would only repeat kWhat; anything else adds to it.
+      const bool shape = why.rfind("not of the form", 0) == 0;
+      errors_.add(r.child("utc"), "expected " + kWhat + ", found " + detail::describe(*v) +
+                                      (shape ? "" : " (" + why + ")"));
+    }
+  }
+
+  void geodetic(const json& v, const std::string& ptr, GeodeticPoint* g) {
+    ObjectReader r(errors_, v, ptr, shape("geodetic"), "geodetic point");
+    if (!r.valid()) return;
+    if (auto x = r.number("latitude_deg", kLatitude, std::nullopt)) g->latitude_deg = *x;
+    if (auto x = r.number("longitude_deg", kLongitude, std::nullopt)) g->longitude_deg = *x;
+    if (auto x = r.number("height_m", kHeight, std::nullopt)) g->height_m = *x;
+  }
+
+  void vec3(const json& v, const std::string& ptr, const Range& range,
+            std::array<double, 3>* out) {
+    const std::string each = range.text().empty() ? "numbers" : "numbers " + range.text();
+    if (!v.is_array() || v.size() != 3) {
+      errors_.expected(ptr, "an array of 3 " + each, v);
+      return;
+    }
+    for (size_t i = 0; i < 3; ++i) {
+      if (auto x = detail::read_number(errors_, v[i], ptr + "/" + std::to_string(i), range)) {
+        (*out)[i] = *x;
+      }
+    }
+  }
+
+  void position(const json& v, const std::string& ptr, Position* p) {
+    ObjectReader r(errors_, v, ptr, shape("position"), "position");
+    if (!r.valid()) return;
+    const json* enu = r.field("enu_m", false, "");
+    const json* geo = r.field("geodetic", false, "");
+    if (enu && geo) {
+      errors_.add(ptr, "expected exactly one of \"enu_m\" or \"geodetic\", found both");
+    } else if (!enu && !geo) {
+      errors_.add(ptr, "expected exactly one of \"enu_m\" or \"geodetic\", found neither");
+    }
+    if (enu) {
+      p->kind = Position::Kind::Enu;
+      vec3(*enu, r.child("enu_m"), Range::any(), &p->enu_m);
+    }
+    if (geo) {
+      p->kind = Position::Kind::Geodetic;
+      geodetic(*geo, r.child("geodetic"), &p->geodetic);
+    }
+  }
+
+  void cameras(const json& v, const std::string& ptr, Scenario* s) {
+    if (!v.is_array() || v.empty()) {
+      errors_.expected(ptr, "an array of at least 1 camera", v);
+      return;
+    }
+    std::set<std::string> names;
+    for (size_t i = 0; i < v.size(); ++i) {
+      const std::string cp = ptr + "/" + std::to_string(i);
+      Camera c;
+      ObjectReader r(errors_, v[i], cp, shape("camera"), "camera");
+      if (!r.valid()) continue;
+      if (auto x = r.string("name", true, 1,
+                            "a name of letters, digits, '_' or '-' (at most 64, "
+                            "starting with a letter or digit)",
+                            camera_name_ok)) {
+        c.name = *x;
+        if (!names.insert(c.name).second) {
+          errors_.add(r.child("name"), "expected a name no other camera has, found \"" +
+                                           c.name + "\" again");
+        }
+      }
+      if (const json* p = r.field("position", true, "an object with \"enu_m\" or \"geodetic\"")) {
+        position(*p, r.child("position"), &c.position);
+      }
+      if (auto x = r.number("heading_deg", Range::closed(-360, 360), std::nullopt)) c.heading_deg = *x;
+      if (auto x = r.number("pitch_deg", Range::closed(-90, 90), std::nullopt)) c.pitch_deg = *x;
+      if (auto x = r.number("roll_deg", Range::closed(-180, 180), 0.0)) c.roll_deg = *x;
+      if (auto x = r.number("vertical_fov_deg", Range::open(0, 180), std::nullopt)) {
+        c.vertical_fov_deg = *x;
+      }
+      if (auto x = r.integer("width", 1, 8192, std::nullopt)) c.width = static_cast<int>(*x);
+      if (auto x = r.integer("height", 1, 8192, std::nullopt)) c.height = static_cast<int>(*x);
+      const auto near_m = r.number("near_m", Range::above(0), std::nullopt);
+      const auto far_m = r.number("far_m", Range::above(0), std::nullopt);
+      if (near_m) c.near_m = *near_m;
+      if (far_m) c.far_m = *far_m;
+      if (near_m && far_m && !(*far_m > *near_m)) {
+        errors_.expected(r.child("far_m"), "a number > near_m (" + detail::describe(*near_m) + ")",
+                         *far_m);
+      }
+      s->cameras.push_back(std::move(c));
+    }
+  }
+
+  void atmosphere(const json& v, const std::string& ptr, Atmosphere* a) {
+    ObjectReader r(errors_, v, ptr, shape("atmosphere"), "atmosphere");
+    if (auto x = r.number("visibility_m", Range::closed(50, 500000), 40000.0)) a->visibility_m = *x;
+    if (auto x = r.number("aerosol_scale_height_m", Range::closed(100, 20000), 1200.0)) {
+      a->aerosol_scale_height_m = *x;
+    }
+    if (auto x = r.number("ground_albedo", Range::closed(0, 1), 0.1)) a->ground_albedo = *x;
+  }
+
+  void terrain(const json& v, const std::string& ptr, Terrain* t) {
+    ObjectReader r(errors_, v, ptr, shape("terrain"), "terrain");
+    if (auto x = r.choice("kind", {"hills", "flat", "none"}, std::nullopt)) {
+      t->kind = static_cast<TerrainKind>(*x);
+    }
+    if (auto x = r.integer("seed", 0, kMaxSeed, 0)) t->seed = static_cast<std::uint64_t>(*x);
+    if (auto x = r.number("size_m", Range::closed(100, 200000), 20000.0)) t->size_m = *x;
+    if (auto x = r.number("relief_m", Range::closed(0, 5000), 150.0)) t->relief_m = *x;
+    if (auto x = r.boolean("runway", false)) t->runway = *x;
+    if (auto x = r.number("runway_heading_deg", Range::closed(0, 360), 90.0)) {
+      t->runway_heading_deg = *x;
+    }
+  }
+
+  void clouds(const json& v, const std::string& ptr, std::vector<CloudLayer>* layers) {
+    if (!v.is_array()) {
+      errors_.expected(ptr, "an array of cloud layers", v);
+      return;
+    }
+    for (size_t i = 0; i < v.size(); ++i) {
+      CloudLayer c;
+      ObjectReader r(errors_, v[i], ptr + "/" + std::to_string(i), shape("cloud_layer"),
+                     "cloud layer");
+      if (!r.valid()) continue;
+      const auto type =
+          r.choice("type", {"cumulus", "stratus", "overcast", "cirrus", "vdb"}, std::nullopt);
+      if (type) c.type = static_cast<CloudType>(*type);
+      const bool vdb = type && c.type == CloudType::Vdb;
+      const bool layer = type && !vdb;
+      if (auto x = r.integer("seed", 0, kMaxSeed, 0)) c.seed = static_cast<std::uint64_t>(*x);
+
+      // Layer fields: required for procedural types, refused for vdb.
+      if (vdb) {
+        for (const char* k : {"coverage_oktas", "base_m", "top_m"}) {
+          if (r.field(k, false, "")) {
+            errors_.add(r.child(k), "unexpected on a \"vdb\" layer: coverage_oktas, base_m and "
+                                    "top_m are for procedural layers only");
+          }
+        }
+      } else {
+        // With no valid type, read them leniently: the type error is enough.
+        const std::optional<std::int64_t> no_int = layer ? std::nullopt : std::optional<std::int64_t>(0);
+        const std::optional<double> no_num = layer ? std::nullopt : std::optional<double>(0.0);
+        const auto oktas = r.integer("coverage_oktas", 0, 8, no_int);
+        const auto base = r.number("base_m", Range::closed(0, 20000), no_num);
+        const auto top = r.number("top_m", Range::closed(0, 20000), no_num);
+        if (oktas) c.coverage_oktas = static_cast<int>(*oktas);
+        if (base) c.base_m = *base;
+        if (top) c.top_m = *top;
+        if (layer && base && top && !(*top > *base)) {
+          errors_.expected(r.child("top_m"), "a number > base_m (" + detail::describe(*base) + ")",
+                           *top);
+        }
+      }
+      // Volume fields: required for vdb, refused for procedural types.
+      if (layer) {
+        for (const char* k : {"vdb_file", "position", "scale"}) {
+          if (r.field(k, false, "")) {
+            errors_.add(r.child(k), std::string("unexpected on a \"") + to_string(c.type) +
+                                        "\" layer: vdb_file, position and scale are for type "
+                                        "\"vdb\" only");
+          }
+        }
+      } else {
+        if (auto x = r.string("vdb_file", vdb, 1, "a non-empty path to a .vdb file")) c.vdb_file = *x;
+        if (const json* p = r.field("position", vdb, "an object with \"enu_m\" or \"geodetic\"")) {
+          position(*p, r.child("position"), &c.position);
+        }
+        if (auto x = r.number("scale", Range::above(0), 1.0)) c.scale = *x;
+      }
+      layers->push_back(std::move(c));
+    }
+  }
+
+  void fog(const json& v, const std::string& ptr, Fog* f) {
+    ObjectReader r(errors_, v, ptr, shape("fog"), "fog");
+    if (auto x = r.number("visibility_m", Range::closed(10, 5000), std::nullopt)) f->visibility_m = *x;
+    if (auto x = r.number("top_m", Range{0.0, 3000.0, true, false}, std::nullopt)) f->top_m = *x;
+  }
+
+  void lights(const json& v, const std::string& ptr, Lights* l) {
+    ObjectReader r(errors_, v, ptr, shape("lights"), "lights");
+    if (auto x = r.boolean("runway_approach", false)) l->runway_approach = *x;
+    const json* points = r.field("points", false, "");
+    if (!points) return;
+    if (!points->is_array()) {
+      errors_.expected(r.child("points"), "an array of light points", *points);
+      return;
+    }
+    for (size_t i = 0; i < points->size(); ++i) {
+      LightPoint p;
+      ObjectReader pr(errors_, (*points)[i], r.child("points") + "/" + std::to_string(i),
+                      shape("light_point"), "light point");
+      if (!pr.valid()) continue;
+      if (const json* e = pr.field("enu_m", true, "an array of 3 numbers")) {
+        vec3(*e, pr.child("enu_m"), Range::any(), &p.enu_m);
+      }
+      if (auto x = pr.number("intensity_cd", Range::above(0), std::nullopt)) p.intensity_cd = *x;
+      if (const json* c = pr.field("color", false, "")) {
+        vec3(*c, pr.child("color"), Range::closed(0, 1), &p.color);
+      }
+      l->points.push_back(p);
+    }
+  }
+
+  void night_sky(const json& v, const std::string& ptr, NightSky* n) {
+    ObjectReader r(errors_, v, ptr, shape("night_sky"), "night_sky");
+    if (auto x = r.boolean("stars", true)) n->stars = *x;
+    if (auto x = r.boolean("moon", true)) n->moon = *x;
+  }
+
+  void render(const json& v, const std::string& ptr, Render* rd) {
+    ObjectReader r(errors_, v, ptr, shape("render"), "render");
+    if (auto x = r.choice("depth_convention", {"standard", "reversed", "logarithmic"}, 1)) {
+      rd->depth_convention = static_cast<DepthConvention>(*x);
+    }
+    if (r.field("exposure_ev100", false, "")) {
+      rd->exposure_ev100 = r.number("exposure_ev100", Range::closed(-20, 30), std::nullopt);
+    }
+    if (auto x = r.choice("output", {"linear_hdr", "display_srgb"}, 0)) {
+      rd->output = static_cast<OutputEncoding>(*x);
+    }
+  }
+
+  void outputs(const json& v, const std::string& ptr, Outputs* o) {
+    ObjectReader r(errors_, v, ptr, shape("outputs"), "outputs");
+    if (auto x = r.boolean("exr", true)) o->exr = *x;
+    if (auto x = r.boolean("png", true)) o->png = *x;
+  }
+
+  void expectations(const json& v, const std::string& ptr, Expectations* e) {
+    ObjectReader r(errors_, v, ptr, shape("expectations"), "expectations");
+    if (!r.valid()) return;
+    if (auto x = r.boolean("finite", true)) e->finite = *x;
+    if (const json* ref = r.field("reference", false, "")) {
+      Reference& out = e->reference.emplace();
+      ObjectReader rr(errors_, *ref, r.child("reference"), shape("reference"), "reference");
+      if (auto x = rr.string("image", true, 1, "a path to a .png file, relative to the scenario",
+                             png_name_ok)) {
+        out.image = *x;
+      }
+      if (rr.choice("metric", {"psnr_db"}, 0)) out.metric = "psnr_db";
+      if (auto x = rr.number("min_psnr_db", Range::above(0), std::nullopt)) out.min_psnr_db = *x;
+    }
+    if (const json* checks = r.field("luminance_checks", false, "")) {
+      luminance_checks(*checks, r.child("luminance_checks"), &e->luminance_checks);
+    }
+    if (r.field("max_frame_ms", false, "")) {
+      e->max_frame_ms = r.number("max_frame_ms", Range::above(0), std::nullopt);
+    }
+  }
+
+  void luminance_checks(const json& v, const std::string& ptr, std::vector<LuminanceCheck>* out) {
+    if (!v.is_array()) {
+      errors_.expected(ptr, "an array of luminance checks", v);
+      return;
+    }
+    for (size_t i = 0; i < v.size(); ++i) {
+      LuminanceCheck c;
+      ObjectReader r(errors_, v[i], ptr + "/" + std::to_string(i), shape("luminance_check"),
+                     "luminance check");
+      if (!r.valid()) continue;
+      if (auto x = r.string("name", true, 1, "a non-empty string")) c.name = *x;
+      if (auto x = r.number("u", Range::closed(0, 1), std::nullopt)) c.u = *x;
+      if (auto x = r.number("v", Range::closed(0, 1), std::nullopt)) c.v = *x;
+      const auto lo = r.number("min_cd_m2", Range::at_least(0), std::nullopt);
+      const auto hi = r.number("max_cd_m2", Range::at_least(0), std::nullopt);
+      if (lo) c.min_cd_m2 = *lo;
+      if (hi) c.max_cd_m2 = *hi;
+      if (lo && hi && *hi < *lo) {
+        errors_.expected(r.child("max_cd_m2"),
+                         "a number >= min_cd_m2 (" + detail::describe(*lo) + ")", *hi);
+      }
+      out->push_back(std::move(c));
+    }
+  }
+
+  detail::Errors errors_;
+};
+
+}  // namespace
+
+const std::vector<ObjectShape>& object_shapes() { return kShapes; }
+
+const std::vector<std::string>& top_level_fields() { return shape("scenario"); }
+
+LoadResult parse_scenario(const std::string& json_text, const std::string& file_label) {
+  LoadResult result;
+  json root;
+  std::string syntax;
+  if (!detail::parse_json(json_text, &root, &syntax)) {
+    result.error = file_label + ": " + syntax;
+    return result;
+  }
+  Scenario s;
+  s.source_file = file_label;
+  s.source_dir = std::filesystem::path(file_label).parent_path().string();
+  Loader loader(file_label);
+  loader.scenario(root, &s);
+  if (!loader.errors().empty()) {
+    result.error = loader.errors().joined();
+    return result;
+  }
+  result.scenario = std::move(s);
+  return result;
+}
+
+LoadResult load_scenario_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    const int err = errno;
+    return {std::nullopt, path + ": cannot open: " + (err ? std::strerror(err) : "unknown error")};
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) return {std::nullopt, path + ": read error"};
+  return parse_scenario(text.str(), path);
+}
+
+std::string resolve_path(const Scenario& scenario, const std::string& relative) {
+  const std::filesystem::path p(relative);
+  if (p.is_absolute() || scenario.source_dir.empty()) return relative;
+  return (std::filesystem::path(scenario.source_dir) / p).lexically_normal().string();
+}
+
+const char* to_string(TerrainKind k) {
+  switch (k) {
+    case TerrainKind::Hills: return "hills";
+    case TerrainKind::Flat: return "flat";
+    case TerrainKind::None: return "none";
+  }
+  return "?";
+}
+
+const char* to_string(CloudType t) {
+  switch (t) {
+    case CloudType::Cumulus: return "cumulus";
+    case CloudType::Stratus: return "stratus";
+    case CloudType::Overcast: return "overcast";
+    case CloudType::Cirrus: return "cirrus";
+    case CloudType::Vdb: return "vdb";
+  }
+  return "?";
+}
+
+const char* to_string(DepthConvention c) {
+  switch (c) {
+    case DepthConvention::Standard: return "standard";
+    case DepthConvention::Reversed: return "reversed";
+    case DepthConvention::Logarithmic: return "logarithmic";
+  }
+  return "?";
+}
+
+const char* to_string(OutputEncoding e) {
+  switch (e) {
+    case OutputEncoding::LinearHdr: return "linear_hdr";
+    case OutputEncoding::DisplaySrgb: return "display_srgb";
+  }
+  return "?";
+}
+
+}  // namespace atmo::scenario
