@@ -1,0 +1,57 @@
+// Shared set-up of the plugin GL tests: a headless context, the plugin
+// loaded through the host SDK, one context and view, an offscreen target.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <memory>
+
+#include "atmo/atmo.hpp"
+#include "atmo_support/headless_gl.h"
+#include "atmo_support/offscreen_target.h"
+
+namespace plugin_gl {
+
+using atmo::support::HeadlessGl;
+using atmo::support::OffscreenTarget;
+
+constexpr int kWidth = 96;
+constexpr int kHeight = 64;
+
+struct Fixture {
+  std::unique_ptr<HeadlessGl> gl;
+  std::unique_ptr<atmo::Plugin> plugin;
+  std::unique_ptr<atmo::Context> context;
+  std::unique_ptr<atmo::View> view;
+  std::unique_ptr<OffscreenTarget> target;
+  AtmoHostServices services = atmo::make<AtmoHostServices>(ATMO_TYPE_HOST_SERVICES);
+
+  Fixture() {
+    std::string error;
+    gl = HeadlessGl::create(HeadlessGl::Profile::Core, &error);
+    if (!gl) throw std::runtime_error("no headless GL context: " + error);
+    services.gl_get_proc_address = &HeadlessGl::get_proc_address;
+    plugin = std::make_unique<atmo::Plugin>(ATMO_PLUGIN_PATH);
+    context = std::make_unique<atmo::Context>(*plugin, &services);
+    context->gl_init();
+    view = std::make_unique<atmo::View>(*context, 0);
+    target = OffscreenTarget::create(kWidth, kHeight, &error);
+    if (!target) throw std::runtime_error("offscreen target: " + error);
+  }
+};
+
+inline glm::dmat4 look(double heading_deg, double pitch_deg) {
+  // ENU world; camera looks along heading/pitch, +y up.
+  double h = glm::radians(heading_deg), p = glm::radians(pitch_deg);
+  glm::dvec3 forward(std::sin(h) * std::cos(p), std::cos(h) * std::cos(p), std::sin(p));
+  return glm::lookAt(glm::dvec3(0.0), forward, glm::dvec3(0, 0, 1));
+}
+
+inline void copy(const glm::dmat4& m, double out[16]) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) out[c * 4 + r] = m[c][r];
+}
+
+}  // namespace plugin_gl
