@@ -1,0 +1,66 @@
+// CPU costs of the core and of the ABI's per-frame calls.
+#include <benchmark/benchmark.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "atmo/atmo.hpp"
+#include "core/atmosphere_model.h"
+#include "core/scene.h"
+#include "core/solar_position.h"
+
+namespace {
+
+void BM_TransmittanceTable256x64(benchmark::State& state) {
+  auto atm = atmo::core::make_atmosphere_parameters(atmo::core::AtmosphereSettings{}, 6370000.0, 1.0);
+  for (auto _ : state) {
+    auto table = atmo::core::compute_transmittance_table(atm, 256, 64, static_cast<int>(state.range(0)));
+    benchmark::DoNotOptimize(table.texels.data());
+  }
+}
+BENCHMARK(BM_TransmittanceTable256x64)->Arg(64)->Arg(256)->Unit(benchmark::kMillisecond);
+
+void BM_SolarPosition(benchmark::State& state) {
+  double t = 1.7e9;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(atmo::core::solar_position(t, 0.0));
+    t += 0.016;
+  }
+}
+BENCHMARK(BM_SolarPosition);
+
+// set_frame + set_view + get_lighting through the ABI: the per-channel,
+// per-frame CPU cost a host pays (no GL).
+void BM_AbiPerFrameCalls(benchmark::State& state) {
+  atmo::Plugin plugin(ATMO_PLUGIN_PATH);
+  atmo::Context context(plugin);
+  atmo::View view(context, 0);
+  auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+  frame.utc_posix_s = 1718964000.0;
+  auto vs = atmo::make<AtmoViewState>(ATMO_TYPE_VIEW_STATE);
+  vs.eye_kind = ATMO_POSITION_ECEF;
+  vs.eye_ecef_m[0] = 6378137.0 + 1000.0;
+  glm::dmat4 v = glm::lookAt(glm::dvec3(0), glm::dvec3(0, 1, 0), glm::dvec3(1, 0, 0));
+  glm::dmat4 p = glm::perspective(1.0, 16.0 / 9.0, 1.0, 1e5);
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) {
+      vs.view_from_world[c * 4 + r] = v[c][r];
+      vs.clip_from_view[c * 4 + r] = p[c][r];
+    }
+  vs.viewport[2] = 1280;
+  vs.viewport[3] = 720;
+  context.set_frame(frame);
+  view.set(vs);
+  view.lighting();  // builds the transmittance table once
+  for (auto _ : state) {
+    frame.utc_posix_s += 1.0 / 60.0;
+    vs.eye_ecef_m[1] += 1.0;
+    context.set_frame(frame);
+    view.set(vs);
+    benchmark::DoNotOptimize(view.lighting());
+  }
+}
+BENCHMARK(BM_AbiPerFrameCalls)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
