@@ -31,8 +31,8 @@ namespace sc = atmo::scenario;
 struct PassTiming {
   std::string name;
   std::vector<double> ms;  // one per repeat
-  double query_ms = 0.0;   // GL timer query of the last frame
   std::string status;      // plugin result of the last frame
+  double query_ms = 0.0;   // GL timer query of the last frame
   double median() const {
     std::vector<double> s = ms;
     std::sort(s.begin(), s.end());
