@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "atmo/atmo.hpp"
+#include "atmo_support/example_view.h"
 #include "atmo_support/headless_gl.h"
 #include "atmo_support/offscreen_target.h"
 
@@ -49,22 +50,7 @@ struct World {
     glClearDepth(0.9995);
     glClear(GL_DEPTH_BUFFER_BIT);
     glDisable(GL_SCISSOR_TEST);
-    auto vs = atmo::make<AtmoViewState>(ATMO_TYPE_VIEW_STATE);
-    vs.eye_kind = ATMO_POSITION_GEODETIC;
-    vs.eye_geodetic[0] = 47.26;
-    vs.eye_geodetic[1] = 11.35;
-    vs.eye_geodetic[2] = 900.0;
-    vs.world_frame = ATMO_WORLD_ENU;
-    vs.world_origin_geodetic[0] = 47.26;
-    vs.world_origin_geodetic[1] = 11.35;
-    double looking_north[16] = {1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1};
-    std::memcpy(vs.view_from_world, looking_north, sizeof(looking_north));
-    double f = 1.0 / std::tan(0.5), aspect = double(kWidth) / kHeight, n = 1.0, fa = 1e5;
-    double proj[16] = {f / aspect, 0, 0, 0, 0, f, 0, 0, 0, 0, (fa + n) / (n - fa), -1, 0, 0, 2 * fa * n / (n - fa), 0};
-    std::memcpy(vs.clip_from_view, proj, sizeof(proj));
-    vs.viewport[2] = kWidth;
-    vs.viewport[3] = kHeight;
-    vs.depth_texture = target->depth_texture();
+    auto vs = atmo::support::example_view_state(kWidth, kHeight, target->depth_texture(), 900.0);
     view->set(vs);
 
     const char* vs_src = "#version 330 core\nvoid main(){vec2 p=vec2((gl_VertexID<<1)&2,gl_VertexID&2);"

@@ -13,6 +13,21 @@ void set_enabled(GLenum cap, GLboolean on) {
 }
 }  // namespace
 
+// Per-draw-buffer blend functions exist from GL 4.0; on 3.3 the blend
+// function is one state for every draw buffer.
+bool has_indexed_blend() { return GLAD_GL_VERSION_4_0 != 0; }
+
+void set_blend_of_buffer0(GLenum src_rgb, GLenum dst_rgb, GLenum src_alpha, GLenum dst_alpha, GLenum eq_rgb,
+                          GLenum eq_alpha) {
+  if (has_indexed_blend()) {
+    glBlendFuncSeparatei(0, src_rgb, dst_rgb, src_alpha, dst_alpha);
+    glBlendEquationSeparatei(0, eq_rgb, eq_alpha);
+  } else {
+    glBlendFuncSeparate(src_rgb, dst_rgb, src_alpha, dst_alpha);
+    glBlendEquationSeparate(eq_rgb, eq_alpha);
+  }
+}
+
 GlStateGuard::GlStateGuard(int units) : units_(units < kMaxUnits ? units : kMaxUnits) {
   program_ = get_int(GL_CURRENT_PROGRAM);
   vao_ = get_int(GL_VERTEX_ARRAY_BINDING);
@@ -37,12 +52,14 @@ GlStateGuard::GlStateGuard(int units) : units_(units < kMaxUnits ? units : kMaxU
   for (int i = 0; i < 8; ++i) clip_distance_[i] = glIsEnabled(GL_CLIP_DISTANCE0 + i);
   glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask_);
   glGetBooleani_v(GL_COLOR_WRITEMASK, 0, color_mask_);
-  glGetIntegeri_v(GL_BLEND_SRC_RGB, 0, &blend_src_rgb_);
-  glGetIntegeri_v(GL_BLEND_DST_RGB, 0, &blend_dst_rgb_);
-  glGetIntegeri_v(GL_BLEND_SRC_ALPHA, 0, &blend_src_alpha_);
-  glGetIntegeri_v(GL_BLEND_DST_ALPHA, 0, &blend_dst_alpha_);
-  glGetIntegeri_v(GL_BLEND_EQUATION_RGB, 0, &blend_eq_rgb_);
-  glGetIntegeri_v(GL_BLEND_EQUATION_ALPHA, 0, &blend_eq_alpha_);
+  const GLenum blend_names[6] = {GL_BLEND_SRC_RGB, GL_BLEND_DST_RGB, GL_BLEND_SRC_ALPHA,
+                                 GL_BLEND_DST_ALPHA, GL_BLEND_EQUATION_RGB, GL_BLEND_EQUATION_ALPHA};
+  GLint* blend_values[6] = {&blend_src_rgb_, &blend_dst_rgb_, &blend_src_alpha_,
+                            &blend_dst_alpha_, &blend_eq_rgb_, &blend_eq_alpha_};
+  for (int i = 0; i < 6; ++i) {
+    if (has_indexed_blend()) glGetIntegeri_v(blend_names[i], 0, blend_values[i]);
+    else glGetIntegerv(blend_names[i], blend_values[i]);
+  }
   polygon_mode_[0] = polygon_mode_[1] = GL_FILL;
   glGetIntegerv(GL_POLYGON_MODE, polygon_mode_);  // core returns one value, compatibility two
   draw_fbo_ = get_int(GL_DRAW_FRAMEBUFFER_BINDING);
@@ -109,9 +126,9 @@ GlStateGuard::~GlStateGuard() {
   for (int i = 0; i < 8; ++i) set_enabled(GL_CLIP_DISTANCE0 + i, clip_distance_[i]);
   glDepthMask(depth_mask_);
   glColorMaski(0, color_mask_[0], color_mask_[1], color_mask_[2], color_mask_[3]);
-  glBlendFuncSeparatei(0, static_cast<GLenum>(blend_src_rgb_), static_cast<GLenum>(blend_dst_rgb_),
-                       static_cast<GLenum>(blend_src_alpha_), static_cast<GLenum>(blend_dst_alpha_));
-  glBlendEquationSeparatei(0, static_cast<GLenum>(blend_eq_rgb_), static_cast<GLenum>(blend_eq_alpha_));
+  set_blend_of_buffer0(static_cast<GLenum>(blend_src_rgb_), static_cast<GLenum>(blend_dst_rgb_),
+                       static_cast<GLenum>(blend_src_alpha_), static_cast<GLenum>(blend_dst_alpha_),
+                       static_cast<GLenum>(blend_eq_rgb_), static_cast<GLenum>(blend_eq_alpha_));
   if (polygon_mode_[0] == polygon_mode_[1]) {
     glPolygonMode(GL_FRONT_AND_BACK, static_cast<GLenum>(polygon_mode_[0]));
   } else {  // compatibility profile with different front/back modes

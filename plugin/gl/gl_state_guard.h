@@ -8,6 +8,11 @@
 
 namespace atmo::gl {
 
+// Sets the blend function and equation of draw buffer 0 (of every draw
+// buffer on GL 3.3, where they are one state).
+void set_blend_of_buffer0(GLenum src_rgb, GLenum dst_rgb, GLenum src_alpha, GLenum dst_alpha, GLenum eq_rgb,
+                          GLenum eq_alpha);
+
 class GlStateGuard {
  public:
   // units: how many texture units (from 0) the caller will bind textures/samplers on.

@@ -175,8 +175,7 @@ bool Renderer::draw(const Program& p, const PassInputs& in, int steps, bool dual
     glViewport(in.viewport[0], in.viewport[1], in.viewport[2], in.viewport[3]);
     if (dual_source_blend) {
       glEnablei(GL_BLEND, 0);
-      glBlendFuncSeparatei(0, GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
-      glBlendEquationSeparatei(0, GL_FUNC_ADD, GL_FUNC_ADD);
+      set_blend_of_buffer0(GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE, GL_FUNC_ADD, GL_FUNC_ADD);
     } else {
       glDisablei(GL_BLEND, 0);
     }

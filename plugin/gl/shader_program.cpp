@@ -13,6 +13,16 @@ namespace atmo::gl {
 namespace {
 constexpr const char* kVersionLine = "#version 330 core\n";
 
+// The info log of a shader or program (glGetShaderiv/InfoLog or the program twins).
+template <typename GetIv, typename GetLog>
+std::string info_log(GLuint object, GetIv get_iv, GetLog get_log) {
+  GLint length = 0;
+  get_iv(object, GL_INFO_LOG_LENGTH, &length);
+  std::vector<char> log(static_cast<size_t>(length > 1 ? length : 1));
+  get_log(object, static_cast<GLsizei>(log.size()), nullptr, log.data());
+  return log.data();
+}
+
 bool expand(std::string_view path, std::set<std::string>& seen, std::string& out, std::string* error) {
   std::string_view text = embedded_shaders::find(path);
   if (text.empty()) {
@@ -50,11 +60,7 @@ GLuint compile(GLenum stage, std::string_view path, std::string* error) {
   GLint ok = GL_FALSE;
   glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
   if (!ok) {
-    GLint length = 0;
-    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-    std::vector<char> log(static_cast<size_t>(length > 1 ? length : 1));
-    glGetShaderInfoLog(shader, static_cast<GLsizei>(log.size()), nullptr, log.data());
-    if (error) *error = "compiling " + std::string(path) + ": " + log.data();
+    if (error) *error = "compiling " + std::string(path) + ": " + info_log(shader, glGetShaderiv, glGetShaderInfoLog);
     glDeleteShader(shader);
     return 0;
   }
@@ -86,11 +92,9 @@ GLuint build_program(std::string_view vertex_path, std::string_view fragment_pat
   GLint ok = GL_FALSE;
   glGetProgramiv(program, GL_LINK_STATUS, &ok);
   if (!ok) {
-    GLint length = 0;
-    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-    std::vector<char> log(static_cast<size_t>(length > 1 ? length : 1));
-    glGetProgramInfoLog(program, static_cast<GLsizei>(log.size()), nullptr, log.data());
-    if (error) *error = "linking " + std::string(vertex_path) + " + " + std::string(fragment_path) + ": " + log.data();
+    if (error)
+      *error = "linking " + std::string(vertex_path) + " + " + std::string(fragment_path) + ": " +
+               info_log(program, glGetProgramiv, glGetProgramInfoLog);
     glDeleteProgram(program);
     return 0;
   }

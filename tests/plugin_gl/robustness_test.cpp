@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "atmo_support/example_view.h"
 #include "atmo_support/image_metrics.h"
 #include "plugin_gl_fixture.h"
 
@@ -13,19 +14,8 @@ using namespace plugin_gl;
 
 namespace {
 
-// A depth texture with host geometry (window depth 0.99995, about 20 km with
-// near 1 m / far 100 km) in the lower half and far plane above.
-GLuint make_half_depth() {
-  std::vector<float> depth(static_cast<size_t>(kWidth) * kHeight, 1.0f);
-  for (int y = 0; y < kHeight / 2; ++y)
-    for (int x = 0; x < kWidth; ++x) depth[static_cast<size_t>(y) * kWidth + x] = 0.99995f;
-  GLuint t = 0;
-  glGenTextures(1, &t);
-  glBindTexture(GL_TEXTURE_2D, t);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, kWidth, kHeight, 0, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
-  glBindTexture(GL_TEXTURE_2D, 0);
-  return t;
-}
+// Host geometry at window depth 0.99995 (about 20 km) in the lower half, far plane above.
+GLuint make_half_depth() { return atmo::support::make_split_depth_texture(kWidth, kHeight, 0.99995f); }
 
 AtmoViewState view_at(double lat, double lon, double height, double heading, double pitch, GLuint depth) {
   auto vs = atmo::make<AtmoViewState>(ATMO_TYPE_VIEW_STATE);

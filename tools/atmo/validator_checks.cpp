@@ -11,6 +11,7 @@
 
 #include "atmo/atmo.h"
 #include "atmo/atmo_loader.h"
+#include "atmo_support/example_view.h"
 #include "atmo_support/gl_state.h"
 #include "atmo_support/headless_gl.h"
 #include "atmo_support/image_metrics.h"
@@ -55,11 +56,7 @@ T make(AtmoStructType type) {
   return v;
 }
 
-void set_identity(double m[16]) {
-  for (int i = 0; i < 16; ++i) m[i] = (i % 5 == 0) ? 1.0 : 0.0;
-}
-
-// A valid frame and view: Innsbruck at noon, looking north and slightly up.
+// A valid frame and view: Innsbruck at noon, looking north.
 AtmoFrameState valid_frame() {
   auto f = make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
   f.utc_posix_s = 1718964000.0;  // 2024-06-21T10:00:00Z
@@ -67,47 +64,7 @@ AtmoFrameState valid_frame() {
 }
 
 AtmoViewState valid_view(int width, int height, unsigned depth_texture) {
-  auto v = make<AtmoViewState>(ATMO_TYPE_VIEW_STATE);
-  v.eye_kind = ATMO_POSITION_GEODETIC;
-  v.eye_geodetic[0] = 47.26;
-  v.eye_geodetic[1] = 11.35;
-  v.eye_geodetic[2] = 600.0;
-  v.world_frame = ATMO_WORLD_ENU;
-  v.world_origin_geodetic[0] = 47.26;
-  v.world_origin_geodetic[1] = 11.35;
-  // Looking north, horizontal: view x = east, y = up, z = south.
-  double view[16] = {1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1};
-  std::memcpy(v.view_from_world, view, sizeof(view));
-  // Perspective, 60° vertical fov, near 1 m, far 100 km.
-  double f = 1.0 / std::tan(M_PI / 6.0), aspect = double(width) / height, n = 1.0, fa = 1e5;
-  set_identity(v.clip_from_view);
-  v.clip_from_view[0] = f / aspect;
-  v.clip_from_view[5] = f;
-  v.clip_from_view[10] = (fa + n) / (n - fa);
-  v.clip_from_view[11] = -1.0;
-  v.clip_from_view[14] = 2.0 * fa * n / (n - fa);
-  v.clip_from_view[15] = 0.0;
-  v.viewport[2] = width;
-  v.viewport[3] = height;
-  v.depth_texture = depth_texture;
-  v.exposure_scale = 1e-4;
-  return v;
-}
-
-// A depth texture with geometry in the lower half (window depth 0.9999) and
-// far plane (1.0) above, so both the sky and the aerial pass have work.
-unsigned make_depth_texture(int width, int height) {
-  std::vector<float> depth(static_cast<size_t>(width) * height, 1.0f);
-  for (int y = 0; y < height / 2; ++y)
-    for (int x = 0; x < width; ++x) depth[static_cast<size_t>(y) * width + x] = 0.9999f;
-  GLuint t = 0;
-  glGenTextures(1, &t);
-  glBindTexture(GL_TEXTURE_2D, t);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, width, height, 0, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glBindTexture(GL_TEXTURE_2D, 0);
-  return t;
+  return support::example_view_state(width, height, depth_texture);
 }
 
 // Plugin messages are expected in these checks (they provoke errors); keep
@@ -634,7 +591,7 @@ CheckResult gl_state_check(const std::string& path, HeadlessGl::Profile profile,
   if (!s.open(path, profile, /*init_gl=*/false)) return fail(s.error);
   const auto& api = s.plugin.api();
   const int size = 64;  // UnusualGlState's framebuffer is 64x64
-  unsigned depth = make_depth_texture(size, size);
+  unsigned depth = support::make_split_depth_texture(size, size, 0.9999f);
   auto frame = valid_frame();
   auto view = valid_view(size, size, depth);
   api.set_frame(s.context, &frame);
@@ -682,7 +639,16 @@ CheckResult gl_state_check(const std::string& path, HeadlessGl::Profile profile,
   if (values < 40) return fail("only " + std::to_string(values) + " GL state values compared; need >= 40");
   odd.reset();
   glDeleteTextures(1, &depth);
-  return pass(std::to_string(calls) + " calls, " + std::to_string(values) + " GL state values unchanged by each");
+  return pass(std::to_string(calls) + " calls, " + std::to_string(values) + " GL state values unchanged by each; GL " +
+              s.gl->version());
+}
+
+// The oldest GL the ABI promises. Mesa honours MESA_GL_VERSION_OVERRIDE when
+// the driver starts, which in this fresh process is now; other drivers ignore
+// it, and the check then says which version it got.
+CheckResult check_gl33(const std::string& path) {
+  setenv("MESA_GL_VERSION_OVERRIDE", "3.3", 1);
+  return gl_state_check(path, HeadlessGl::Profile::Core, true);
 }
 
 CheckResult check_nothing_to_draw_costs_nothing(const std::string& path) {
@@ -737,6 +703,7 @@ std::vector<Check> all_checks() {
        [](P p) { return gl_state_check(p, HeadlessGl::Profile::Core, true); }},
       {"GL state unchanged by every call (unusual host state, compatibility profile)",
        [](P p) { return gl_state_check(p, HeadlessGl::Profile::Compatibility, true); }},
+      {"OpenGL 3.3 core context: draws, and GL state unchanged", check_gl33},
   };
 }
 

@@ -1,0 +1,313 @@
+#include "sample_renderer.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include <glad/gl.h>
+
+#include "atmo_host_scene/depth_setup.h"
+#include "atmo_host_scene/gl_program.h"
+
+namespace atmo::sample {
+
+namespace hs = atmo::host_scene;
+
+namespace {
+
+constexpr AtmoResult kNotRun = INT32_MIN;
+constexpr double kNearM = 1.0;
+constexpr double kFarM = 200000.0;
+
+const char* kToneMapVertex = R"(
+void main() {
+  // One triangle covering the viewport.
+  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
+)";
+
+// Same curve as atmo::support::tone_map_to_display (exposure is already in the
+// HDR values): Narkowicz's ACES fit, then the sRGB transfer function.
+const char* kToneMapFragment = R"(
+uniform sampler2D u_hdr;
+layout(location = 0) out vec4 o_color;
+float aces(float x) {
+  x = max(x, 0.0);
+  return clamp(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
+}
+float srgb(float c) {
+  return c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
+}
+void main() {
+  vec3 c = texelFetch(u_hdr, ivec2(gl_FragCoord.xy), 0).rgb;
+  o_color = vec4(srgb(aces(c.r)), srgb(aces(c.g)), srgb(aces(c.b)), 1.0);
+}
+)";
+
+// Used when the plugin gives no lighting, so the terrain still shows.
+hs::SceneLighting fallback_lighting() {
+  hs::SceneLighting l;
+  l.sun_direction_enu = glm::normalize(glm::dvec3(-0.5, -0.5, 0.7));
+  l.sun_illuminance_lux = glm::dvec3(100000.0);
+  l.sky_ambient_lux = glm::dvec3(15000.0);
+  return l;
+}
+
+const char* severity_name(int32_t severity) {
+  switch (severity) {
+    case ATMO_LOG_DEBUG: return "debug";
+    case ATMO_LOG_INFO: return "info";
+    case ATMO_LOG_WARNING: return "warning";
+    case ATMO_LOG_ERROR: return "error";
+    case ATMO_LOG_HOST_MISBEHAVING: return "HOST MISBEHAVING";
+  }
+  return "?";
+}
+
+}  // namespace
+
+const char* section_name(int section) {
+  static const char* const names[kSectionCount] = {"terrain",         "sky",         "aerial perspective",
+                                                   "clouds",          "night sky",   "light glows",
+                                                   "tone map"};
+  return section >= 0 && section < kSectionCount ? names[section] : "?";
+}
+
+SampleRenderer::SampleRenderer(const std::string& plugin_path, AtmoGlProcLoader loader, bool verbose)
+    : verbose_(verbose) {
+  plugin_ = std::make_unique<atmo::Plugin>(plugin_path, "atmo-sample-host");
+  auto services = atmo::make<AtmoHostServices>(ATMO_TYPE_HOST_SERVICES);
+  services.user = this;
+  services.log = &SampleRenderer::log_callback;
+  // The plugin loads GL through the host's loader (copied at create_context).
+  services.gl_get_proc_address = loader;
+  context_ = std::make_unique<atmo::Context>(*plugin_, &services);
+}
+
+SampleRenderer::~SampleRenderer() {
+  view_.reset();
+  context_.reset();
+  plugin_.reset();
+}
+
+void SampleRenderer::log_callback(void* user, int32_t severity, const char* message) {
+  auto* self = static_cast<SampleRenderer*>(user);
+  if (severity >= ATMO_LOG_WARNING || self->verbose_) {
+    std::fprintf(stderr, "[atmo %s] %s\n", severity_name(severity), message ? message : "");
+  }
+  if (severity >= ATMO_LOG_ERROR) {
+    const std::lock_guard<std::mutex> lock(self->log_mutex_);
+    self->logged_errors_.push_back(std::string("log (") + severity_name(severity) + "): " + (message ? message : ""));
+  }
+}
+
+std::vector<std::string> SampleRenderer::take_logged_errors() {
+  const std::lock_guard<std::mutex> lock(log_mutex_);
+  std::vector<std::string> out;
+  out.swap(logged_errors_);
+  return out;
+}
+
+bool SampleRenderer::gl_init(uint64_t terrain_seed, std::string* error) {
+  try {
+    context_->gl_init();
+    view_ = std::make_unique<atmo::View>(*context_, 0);
+  } catch (const atmo::Error& e) {
+    if (error) *error = e.what();
+    return false;
+  }
+  hs::TerrainOptions options;
+  options.seed = terrain_seed;
+  terrain_ = std::make_unique<hs::Terrain>(options);
+  if (!terrain_->gl_init(error)) return false;
+  tone_map_program_ = hs::build_program(kToneMapVertex, kToneMapFragment, "", "sample tone map", error);
+  if (!tone_map_program_) return false;
+  glGenVertexArrays(1, &empty_vao_);
+  timers_.gl_init(kSectionCount);
+  return true;
+}
+
+void SampleRenderer::gl_shutdown() {
+  timers_.gl_shutdown();
+  release_targets();
+  if (tone_map_program_) glDeleteProgram(tone_map_program_);
+  if (empty_vao_) glDeleteVertexArrays(1, &empty_vao_);
+  tone_map_program_ = empty_vao_ = 0;
+  if (terrain_) terrain_->gl_shutdown();
+  view_.reset();
+  try {
+    context_->gl_shutdown();
+  } catch (const atmo::Error& e) {
+    std::fprintf(stderr, "atmo-sample-host: %s\n", e.what());
+  }
+}
+
+void SampleRenderer::release_targets() {
+  if (scene_fbo_) glDeleteFramebuffers(1, &scene_fbo_);
+  if (atmo_fbo_) glDeleteFramebuffers(1, &atmo_fbo_);
+  if (hdr_color_) glDeleteTextures(1, &hdr_color_);
+  if (depth_) glDeleteTextures(1, &depth_);
+  scene_fbo_ = atmo_fbo_ = hdr_color_ = depth_ = 0;
+  target_width_ = target_height_ = 0;
+}
+
+bool SampleRenderer::ensure_targets(int width, int height, std::string* error) {
+  if (width == target_width_ && height == target_height_ && scene_fbo_) return true;
+  release_targets();
+  auto make_texture = [&](GLenum internal_format, GLenum format, GLenum type) {
+    GLuint texture = 0;
+    glGenTextures(1, &texture);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glTexImage2D(GL_TEXTURE_2D, 0, static_cast<GLint>(internal_format), width, height, 0, format, type, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    return texture;
+  };
+  hdr_color_ = make_texture(GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT);
+  depth_ = make_texture(GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, GL_FLOAT);
+
+  glGenFramebuffers(1, &scene_fbo_);
+  glBindFramebuffer(GL_FRAMEBUFFER, scene_fbo_);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, hdr_color_, 0);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth_, 0);
+  const GLenum scene_status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+
+  glGenFramebuffers(1, &atmo_fbo_);
+  glBindFramebuffer(GL_FRAMEBUFFER, atmo_fbo_);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, hdr_color_, 0);
+  const GLenum atmo_status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+
+  if (scene_status != GL_FRAMEBUFFER_COMPLETE || atmo_status != GL_FRAMEBUFFER_COMPLETE) {
+    if (error) {
+      char text[128];
+      std::snprintf(text, sizeof text, "HDR framebuffer incomplete (0x%04x, 0x%04x)", scene_status, atmo_status);
+      *error = text;
+    }
+    release_targets();
+    return false;
+  }
+  target_width_ = width;
+  target_height_ = height;
+  return true;
+}
+
+FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t frame_number, unsigned target_fbo,
+                                         int width, int height, bool wait_for_timings) {
+  const auto cpu_start = std::chrono::steady_clock::now();
+  FrameReport report;
+  report.pass_results.fill(kNotRun);
+  report.gpu_ms.fill(std::nan(""));
+  report.scene_lighting = fallback_lighting();
+
+  std::string error;
+  if (width <= 0 || height <= 0) return report;  // minimised window
+  if (!ensure_targets(width, height, &error)) {
+    report.errors.push_back(error);
+    return report;
+  }
+  if (!hs::depth_convention_supported(settings.depth_convention)) {
+    report.errors.push_back(std::string("depth convention ") + hs::to_string(settings.depth_convention) +
+                            " needs glClipControl (GL 4.5 or ARB_clip_control)");
+    return report;
+  }
+
+  hs::ViewSetup setup;
+  setup.world_origin = settings.origin;
+  setup.pose = settings.pose;
+  setup.vfov_rad = glm::radians(settings.vfov_deg);
+  setup.near_m = kNearM;
+  setup.far_m = kFarM;
+  setup.depth_convention = settings.depth_convention;
+  setup.viewport = {0, 0, width, height};
+  setup.depth_texture = depth_;
+  setup.output_encoding = ATMO_OUTPUT_LINEAR_HDR;
+  setup.exposure_scale = hs::exposure_scale_from_ev100(settings.ev100);
+
+  // World and view state first: the terrain is lit by the plugin's sun.
+  bool plugin_ready = true;
+  try {
+    if (settings.visibility_m != last_visibility_m_) {
+      auto air = atmo::make<AtmoAtmosphereState>(ATMO_TYPE_ATMOSPHERE_STATE);
+      air.visibility_m = settings.visibility_m;
+      context_->set_atmosphere(air);
+      last_visibility_m_ = settings.visibility_m;
+    }
+    auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+    frame.host_frame_number = frame_number;
+    frame.utc_posix_s = settings.utc_posix_s;
+    context_->set_frame(frame);
+    view_->set(hs::make_view_state(setup));
+    report.lighting = view_->lighting();
+    report.scene_lighting = hs::lighting_from_atmo(report.lighting);
+  } catch (const atmo::Error& e) {
+    report.errors.push_back(e.what());
+    plugin_ready = false;
+  }
+
+  timers_.begin_frame();
+  {
+    const hs::DepthSetup depth(settings.depth_convention);
+    glBindFramebuffer(GL_FRAMEBUFFER, scene_fbo_);
+    glViewport(0, 0, width, height);
+    glDisable(GL_SCISSOR_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+
+    timers_.begin(kSectionTerrain);
+    terrain_->draw(setup, report.scene_lighting);
+    timers_.end();
+
+    if (plugin_ready) {
+      glBindFramebuffer(GL_FRAMEBUFFER, atmo_fbo_);
+      for (int pass = 0; pass < ATMO_PASS_COUNT; ++pass) {
+        timers_.begin(kSectionSky + pass);
+        try {
+          report.pass_results[static_cast<size_t>(pass)] = view_->render(static_cast<AtmoPass>(pass));
+        } catch (const atmo::Error& e) {
+          report.pass_results[static_cast<size_t>(pass)] = e.code();
+          report.errors.push_back(e.what());
+        }
+        timers_.end();
+      }
+    }
+  }
+
+  timers_.begin(kSectionToneMap);
+  glBindFramebuffer(GL_FRAMEBUFFER, target_fbo);
+  glViewport(0, 0, width, height);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glUseProgram(tone_map_program_);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, hdr_color_);
+  glUniform1i(glGetUniformLocation(tone_map_program_, "u_hdr"), 0);
+  glBindVertexArray(empty_vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glBindTexture(GL_TEXTURE_2D, 0);
+  glUseProgram(0);
+  timers_.end();
+  timers_.end_frame(wait_for_timings);
+
+  for (size_t i = 0; i < report.gpu_ms.size(); ++i) report.gpu_ms[i] = timers_.milliseconds()[i];
+  report.timings_valid = timers_.has_results();
+  for (std::string& message : take_logged_errors()) report.errors.push_back(std::move(message));
+  const GLenum gl_error = glGetError();
+  if (gl_error != GL_NO_ERROR) {
+    char text[64];
+    std::snprintf(text, sizeof text, "GL error 0x%04x after the frame", gl_error);
+    report.errors.push_back(text);
+  }
+  report.cpu_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - cpu_start).count();
+  return report;
+}
+
+}  // namespace atmo::sample

@@ -1,0 +1,89 @@
+// sample_renderer.h — the sample host's frame, the same in the window and
+// headless modes: terrain (opaques) into a linear RGBA16F HDR target, then
+// the Atmo passes, then a tone-map blit into the caller's framebuffer.
+// The plugin is reached only through the host SDK (atmo.hpp).
+#pragma once
+
+#include <array>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "atmo/atmo.hpp"
+#include "atmo_host_scene/terrain.h"
+#include "gpu_timers.h"
+#include "scene_settings.h"
+
+namespace atmo::sample {
+
+// Timed sections of a frame, in drawing order.
+enum Section {
+  kSectionTerrain = 0,
+  kSectionSky,                 // ATMO_PASS_SKY
+  kSectionAerialPerspective,   // ATMO_PASS_AERIAL_PERSPECTIVE
+  kSectionClouds,              // ATMO_PASS_CLOUDS
+  kSectionNightSky,            // ATMO_PASS_NIGHT_SKY
+  kSectionLightGlows,          // ATMO_PASS_LIGHT_GLOWS
+  kSectionToneMap,
+  kSectionCount
+};
+const char* section_name(int section);
+
+struct FrameReport {
+  std::array<double, kSectionCount> gpu_ms{};  // newest available timings; NaN: not run / none yet
+  bool timings_valid = false;
+  std::array<AtmoResult, ATMO_PASS_COUNT> pass_results{};
+  AtmoLighting lighting{};          // from get_lighting
+  host_scene::SceneLighting scene_lighting;
+  std::vector<std::string> errors;  // plugin errors and error-level log messages of this frame
+  double cpu_ms = 0.0;              // CPU time of render_frame
+};
+
+class SampleRenderer {
+ public:
+  // Loads the plugin and creates its context (no GL yet). Throws atmo::Error.
+  // loader: the host's GL proc-address function, given to the plugin (its user
+  // argument is this renderer, as AtmoHostServices.user; the loader ignores it).
+  SampleRenderer(const std::string& plugin_path, AtmoGlProcLoader loader, bool verbose);
+  ~SampleRenderer();  // call gl_shutdown() first, with the context current
+  SampleRenderer(const SampleRenderer&) = delete;
+  SampleRenderer& operator=(const SampleRenderer&) = delete;
+
+  // [gl-current] Plugin gl_init, view, terrain and tone-map objects.
+  bool gl_init(uint64_t terrain_seed, std::string* error);
+  void gl_shutdown();
+
+  // [gl-current] Renders one frame into target_fbo (0: the window), width x
+  // height pixels. wait_for_timings: read this frame's GPU timings (stalls).
+  FrameReport render_frame(const SceneSettings& settings, uint64_t frame_number, unsigned target_fbo, int width,
+                           int height, bool wait_for_timings);
+
+  const AtmoPluginApi& api() const { return plugin_->api(); }
+  const host_scene::Terrain& terrain() const { return *terrain_; }
+
+ private:
+  static void log_callback(void* user, int32_t severity, const char* message);
+  bool ensure_targets(int width, int height, std::string* error);
+  void release_targets();
+  std::vector<std::string> take_logged_errors();
+
+  bool verbose_ = false;
+  std::mutex log_mutex_;
+  std::vector<std::string> logged_errors_;
+
+  std::unique_ptr<atmo::Plugin> plugin_;
+  std::unique_ptr<atmo::Context> context_;
+  std::unique_ptr<atmo::View> view_;
+  std::unique_ptr<host_scene::Terrain> terrain_;
+  double last_visibility_m_ = -1.0;
+
+  // scene_fbo_: colour + depth, for opaques. atmo_fbo_: the same colour only,
+  // for the plugin's passes, which sample the depth texture (no feedback loop).
+  unsigned scene_fbo_ = 0, atmo_fbo_ = 0, hdr_color_ = 0, depth_ = 0;
+  int target_width_ = 0, target_height_ = 0;
+  unsigned tone_map_program_ = 0, empty_vao_ = 0;
+  GpuTimers timers_;
+};
+
+}  // namespace atmo::sample

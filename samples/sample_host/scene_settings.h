@@ -1,0 +1,37 @@
+// scene_settings.h — what the sample host shows: place, time, air, camera,
+// depth convention, exposure. Shared by the window and headless modes.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "atmo_host_scene/camera.h"
+
+namespace atmo::sample {
+
+struct SceneSettings {
+  host_scene::Geodetic origin{47.4647, 8.5492, 432.0};  // airfield datum (ENU origin)
+  host_scene::CameraPose pose;
+  double utc_posix_s = 1718982000.0;  // 2024-06-21T15:00:00Z
+  double visibility_m = 40000.0;
+  host_scene::DepthConvention depth_convention = host_scene::DepthConvention::Reversed;
+  double ev100 = 15.0;
+  double vfov_deg = 60.0;
+  uint64_t seed = 1;
+};
+
+// Days since 1970-01-01 of a proleptic Gregorian date, and back.
+int64_t days_from_civil(int year, int month, int day);
+void civil_from_days(int64_t days, int* year, int* month, int* day);
+
+// "2024-06-21T15:00:00Z", "2024-06-21T15:00Z", "2024-06-21 15:00:00" (UTC),
+// or POSIX seconds ("1718982000"). False if it is neither.
+bool parse_utc(const std::string& text, double* posix_s);
+std::string format_utc(double posix_s);  // "2024-06-21T15:00:00Z"
+
+// The fixed headless flight path, t in [0, 1]: a straight-in approach on a
+// 3 degree glide path to the runway of host_scene::Terrain (default options),
+// from 6 km to 1 km before the threshold.
+host_scene::CameraPose approach_path(double t);
+
+}  // namespace atmo::sample

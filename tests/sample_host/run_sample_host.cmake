@@ -1,0 +1,28 @@
+# ctest -P script: run atmo-sample-host headless into a clean folder, then
+# check its exit code and that every frame_NNN.png exists and is not empty.
+file(REMOVE_RECURSE ${OUT_DIR})
+execute_process(
+  COMMAND ${SAMPLE_HOST} --plugin ${PLUGIN} --frames ${FRAMES} --out ${OUT_DIR} --width 320 --height 180
+  RESULT_VARIABLE result)
+if(NOT result EQUAL 0)
+  message(FATAL_ERROR "atmo-sample-host exited with ${result}")
+endif()
+math(EXPR last "${FRAMES} - 1")
+foreach(i RANGE ${last})
+  string(LENGTH "${i}" digits)
+  if(digits EQUAL 1)
+    set(name "frame_00${i}.png")
+  elseif(digits EQUAL 2)
+    set(name "frame_0${i}.png")
+  else()
+    set(name "frame_${i}.png")
+  endif()
+  if(NOT EXISTS ${OUT_DIR}/${name})
+    message(FATAL_ERROR "missing ${OUT_DIR}/${name}")
+  endif()
+  file(SIZE ${OUT_DIR}/${name} size)
+  if(size EQUAL 0)
+    message(FATAL_ERROR "empty ${OUT_DIR}/${name}")
+  endif()
+endforeach()
+message(STATUS "${FRAMES} frames in ${OUT_DIR}")
