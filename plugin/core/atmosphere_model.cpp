@@ -50,8 +50,9 @@ twin::TransmittanceTable compute_transmittance_table(const twin::AtmosphereParam
   const double bottom = atm.bottom_radius_m;
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
-      // Texel centre -> unit coordinates -> (r, mu): the inverse of the lookup.
-      glm::vec2 unit((x + 0.5f - 0.5f) / (width - 1.0f), (y + 0.5f - 0.5f) / (height - 1.0f));
+      // Texel centre -> unit coordinates (the lookup maps x_mu = 0 and 1 to the
+      // first and last texel centres) -> (r, mu).
+      glm::vec2 unit(x / (width - 1.0f), y / (height - 1.0f));
       glm::vec2 r_mu = twin::transmittance_r_mu_from_unit(atm, unit);
       const double r = r_mu.x, mu = r_mu.y;
       const double length = twin::distance_to_top(atm, static_cast<float>(r), static_cast<float>(mu));

@@ -9,7 +9,7 @@
 #include <memory>
 #include <sstream>
 
-#include "atmo/atmo.h"
+#include "atmo/atmo.hpp"
 #include "atmo/atmo_loader.h"
 #include "atmo_support/example_view.h"
 #include "atmo_support/gl_state.h"
@@ -47,14 +47,7 @@ std::string expect(const Plugin& p, AtmoResult got, AtmoResult want, const std::
   return what + " returned " + name(p, got) + ", expected " + name(p, want);
 }
 
-template <typename T>
-T make(AtmoStructType type) {
-  T v;
-  std::memset(static_cast<void*>(&v), 0, sizeof(v));
-  v.header.type = type;
-  v.header.struct_size = sizeof(T);
-  return v;
-}
+using atmo::make;  // zeroed struct with its header filled (host SDK)
 
 // A valid frame and view: Innsbruck at noon, looking north.
 AtmoFrameState valid_frame() {
