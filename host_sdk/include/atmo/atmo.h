@@ -281,7 +281,9 @@ typedef struct AtmoViewState {
 
   /* The host's depth, as a GL texture name (GL_TEXTURE_2D, any depth format),
      sampled with texelFetch at the pixel of the viewport. 0: no depth — the sky
-     then covers the whole viewport and aerial perspective draws nothing. */
+     then covers the whole viewport and aerial perspective draws nothing. The
+     plugin never writes depth; strictly by the GL spec the texture should not
+     be attached to the framebuffer bound for the passes (docs/ABI.md). */
   uint32_t depth_texture;
   uint32_t depth_convention;    /* AtmoDepthConvention */
   double far_plane_m;           /* ATMO_DEPTH_LOGARITHMIC only: the far distance in the formula */
