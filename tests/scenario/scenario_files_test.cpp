@@ -103,9 +103,16 @@ TEST_P(ShippedScenario, LoadsWithoutError) {
   EXPECT_TRUE(r.error.empty());
   EXPECT_FALSE(r.scenario->cameras.empty());
   EXPECT_TRUE(r.scenario->expectations.finite);
-  // The lead adds reference images and luminance checks later.
-  EXPECT_FALSE(r.scenario->expectations.reference);
-  EXPECT_TRUE(r.scenario->expectations.luminance_checks.empty());
+  // Every shipped scenario is checked against physics and a regression image.
+  EXPECT_FALSE(r.scenario->expectations.luminance_checks.empty());
+  ASSERT_TRUE(r.scenario->expectations.reference);
+  // The reference exists for every camera (a camera suffix when there are several).
+  std::string ref = sc::resolve_path(*r.scenario, r.scenario->expectations.reference->image);
+  for (const sc::Camera& cam : r.scenario->cameras) {
+    std::string path = ref;
+    if (r.scenario->cameras.size() > 1) path.insert(path.rfind('.'), "_" + cam.name);
+    EXPECT_TRUE(std::filesystem::exists(path)) << path;
+  }
 }
 
 TEST_P(ShippedScenario, SchemaAcceptsIt) {
