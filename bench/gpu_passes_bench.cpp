@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <vector>
 
@@ -34,7 +35,9 @@ struct World {
     if (!gl) throw std::runtime_error(error);
     target = atmo::support::OffscreenTarget::create(kWidth, kHeight, &error);
     services.gl_get_proc_address = &atmo::support::HeadlessGl::get_proc_address;
-    plugin = std::make_unique<atmo::Plugin>(ATMO_PLUGIN_PATH);
+    // ATMO_PLUGIN overrides the build-tree path (e.g. a copy run on another machine).
+    const char* override_path = std::getenv("ATMO_PLUGIN");
+    plugin = std::make_unique<atmo::Plugin>(override_path ? override_path : ATMO_PLUGIN_PATH);
     context = std::make_unique<atmo::Context>(*plugin, &services);
     context->gl_init();
     view = std::make_unique<atmo::View>(*context, 0);
@@ -126,4 +129,12 @@ BENCHMARK(BM_AerialPerspective_HalfScreenGeometry)->UseManualTime()->Unit(benchm
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  World& w = world();  // the context first, so the report can name the renderer
+  benchmark::AddCustomContext("gl_renderer", w.gl->renderer());
+  benchmark::AddCustomContext("gl_version", w.gl->version());
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
