@@ -19,6 +19,16 @@ void BM_TransmittanceTable256x64(benchmark::State& state) {
 }
 BENCHMARK(BM_TransmittanceTable256x64)->Arg(64)->Arg(256)->Unit(benchmark::kMillisecond);
 
+void BM_MultipleScatteringTable32x32(benchmark::State& state) {
+  auto atm = atmo::core::make_atmosphere_parameters(atmo::core::AtmosphereSettings{}, 6370000.0, 1.0);
+  auto transmittance = atmo::core::compute_transmittance_table(atm, 256, 64);
+  for (auto _ : state) {
+    auto table = atmo::core::compute_multiple_scattering_table(atm, transmittance);
+    benchmark::DoNotOptimize(table.texels.data());
+  }
+}
+BENCHMARK(BM_MultipleScatteringTable32x32)->Unit(benchmark::kMillisecond);
+
 void BM_SolarPosition(benchmark::State& state) {
   double t = 1.7e9;
   for (auto _ : state) {

@@ -12,8 +12,9 @@ void main() {
   if (p.w < 0.0f) discard;  // sky: nothing to haze
   float distance_m = length(p.xyz);
   vec3 dir = normalize(u_enu_from_view * (p.xyz / max(distance_m, 1e-6f)));
-  ScatteringResult s = integrate_single_scattering(u_atmosphere, u_transmittance, u_transmittance_size, u_eye_altitude_m,
-                                                   dir, u_sun_direction_enu, distance_m, u_steps);
+  ScatteringResult s = integrate_scattering(u_atmosphere, u_transmittance, u_transmittance_size, u_multiple_scattering,
+                                            u_multiple_scattering_size, u_eye_altitude_m, dir, u_sun_direction_enu,
+                                            distance_m, u_steps);
   out_inscattered = vec4(encode_output(s.inscattered), 0.0f);
   out_transmittance = vec4(s.transmittance, 1.0f);
 }

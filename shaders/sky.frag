@@ -11,7 +11,7 @@ void main() {
     if (p.w >= 0.0f) discard;  // host geometry is here
   }
   vec3 dir = normalize(u_enu_from_view * view_ray_from_ndc(u_view_from_clip, ndc_xy(), u_depth_convention));
-  vec3 radiance = sky_radiance(u_atmosphere, u_transmittance, u_transmittance_size, u_eye_altitude_m, dir,
-                               u_sun_direction_enu, u_steps);
+  vec3 radiance = sky_radiance(u_atmosphere, u_transmittance, u_transmittance_size, u_multiple_scattering,
+                               u_multiple_scattering_size, u_eye_altitude_m, dir, u_sun_direction_enu, u_steps);
   out_color = vec4(encode_output(radiance), 1.0f);
 }

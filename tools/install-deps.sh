@@ -13,6 +13,7 @@ PACKAGES=(
   libgeographiclib-dev liberfa-dev
   libvtk9-dev libopenvdb-dev libboost-iostreams-dev
   openimageio-tools binutils
+  colord-data
 )
 
 missing=()

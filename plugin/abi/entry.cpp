@@ -348,7 +348,7 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
     }
     atmo::core::Scene scene = atmo::abi::prepare_scene(ctx, *view);
     if (ctx->uploaded_lut_version != ctx->lut_version) {
-      ctx->renderer.upload_transmittance(ctx->lut);
+      ctx->renderer.upload_tables(ctx->lut, ctx->multiple_scattering);
       ctx->uploaded_lut_version = ctx->lut_version;
     }
     atmo::gl::PassInputs inputs = atmo::abi::make_pass_inputs(scene, *view);

@@ -28,16 +28,17 @@ struct AtmoContext_T {
   double dut1_s = 0.0;
   uint64_t frame_number = 0;
 
-  // The transmittance table for the last (settings, radius) it was built for.
+  // The tables for the last (air, ground albedo, sphere radius) they were built for.
   struct LutKey {
-    double visibility_m = -1, aerosol_scale_height_m = -1, radius_m = -1;
+    double visibility_m = -1, aerosol_scale_height_m = -1, ground_albedo = -1, radius_m = -1;
     bool operator==(const LutKey& o) const {
       return visibility_m == o.visibility_m && aerosol_scale_height_m == o.aerosol_scale_height_m &&
-             radius_m == o.radius_m;
+             ground_albedo == o.ground_albedo && radius_m == o.radius_m;
     }
   };
   LutKey lut_key;
-  atmo::twin::TransmittanceTable lut;
+  atmo::twin::Lut2D lut;                  // transmittance
+  atmo::twin::Lut2D multiple_scattering;  // Psi_ms, built from lut
   uint64_t lut_version = 0;          // bumps when the CPU table changes
   uint64_t uploaded_lut_version = 0; // what the GL texture holds (0: nothing)
 

@@ -6,9 +6,11 @@ namespace atmo::abi {
 
 core::Scene prepare_scene(AtmoContext_T* c, const AtmoView_T& view) {
   core::Scene s = core::make_scene(c->atmosphere, c->utc_posix_s, c->dut1_s, view.eye);
-  AtmoContext_T::LutKey key{c->atmosphere.visibility_m, c->atmosphere.aerosol_scale_height_m, s.sphere_radius_m};
+  AtmoContext_T::LutKey key{c->atmosphere.visibility_m, c->atmosphere.aerosol_scale_height_m,
+                            c->atmosphere.ground_albedo, s.sphere_radius_m};
   if (!(key == c->lut_key)) {
     c->lut = core::compute_transmittance_table(s.atmosphere, core::kTransmittanceWidth, core::kTransmittanceHeight);
+    c->multiple_scattering = core::compute_multiple_scattering_table(s.atmosphere, c->lut);
     c->lut_key = key;
     ++c->lut_version;
   }

@@ -41,9 +41,9 @@ twin::AtmosphereParameters make_atmosphere_parameters(const AtmosphereSettings& 
   return atm;
 }
 
-twin::TransmittanceTable compute_transmittance_table(const twin::AtmosphereParameters& atm, int width,
+twin::Lut2D compute_transmittance_table(const twin::AtmosphereParameters& atm, int width,
                                                      int height, int integration_steps) {
-  twin::TransmittanceTable table;
+  twin::Lut2D table;
   table.width = width;
   table.height = height;
   table.texels.resize(static_cast<size_t>(width) * height);
@@ -65,6 +65,25 @@ twin::TransmittanceTable compute_transmittance_table(const twin::AtmosphereParam
         tau += glm::dvec3(twin::extinction_at(atm, static_cast<float>(altitude))) * dt;
       }
       table.texels[static_cast<size_t>(y) * width + x] = glm::vec3(glm::exp(-tau));
+    }
+  }
+  return table;
+}
+
+twin::Lut2D compute_multiple_scattering_table(const twin::AtmosphereParameters& atm, const twin::Lut2D& transmittance,
+                                              int size, int directions, int steps) {
+  twin::Lut2D table;
+  table.width = table.height = size;
+  table.texels.resize(static_cast<size_t>(size) * size);
+  const glm::vec2 t_size(transmittance.width, transmittance.height);
+  for (int y = 0; y < size; ++y) {
+    for (int x = 0; x < size; ++x) {
+      // Texel centre -> (mu_s, r): the inverse of multiple_scattering_uv.
+      float mu_s = x / (size - 1.0f) * 2.0f - 1.0f;
+      float r = atm.bottom_radius_m + y / (size - 1.0f) * (atm.top_radius_m - atm.bottom_radius_m);
+      r = std::max(r, atm.bottom_radius_m + 1.0f);  // just above the ground, so rays can leave
+      table.texels[static_cast<size_t>(y) * size + x] =
+          twin::multiple_scattering_texel(atm, transmittance, t_size, r, mu_s, directions, steps);
     }
   }
   return table;

@@ -34,7 +34,15 @@ twin::AtmosphereParameters make_atmosphere_parameters(const AtmosphereSettings& 
 // double precision with `integration_steps` midpoint samples per texel.
 constexpr int kTransmittanceWidth = 256;
 constexpr int kTransmittanceHeight = 64;
-twin::TransmittanceTable compute_transmittance_table(const twin::AtmosphereParameters& atm, int width,
+twin::Lut2D compute_transmittance_table(const twin::AtmosphereParameters& atm, int width,
                                                      int height, int integration_steps = 256);
+
+// Multiple-scattering table Psi_ms(mu_s, altitude) (Hillaire 2020), per unit
+// sun illuminance, from the transmittance table: `directions` rays of `steps`
+// samples per texel, through the shared function multiple_scattering_texel.
+constexpr int kMultipleScatteringSize = 32;
+twin::Lut2D compute_multiple_scattering_table(const twin::AtmosphereParameters& atm,
+                                              const twin::Lut2D& transmittance, int size = kMultipleScatteringSize,
+                                              int directions = 64, int steps = 20);
 
 }  // namespace atmo::core

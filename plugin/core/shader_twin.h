@@ -1,6 +1,6 @@
 // shader_twin.h — compiles shaders/atmosphere/functions.glsl as C++ over GLM,
 // so the CPU evaluates exactly the formulas the GPU runs (one source of truth,
-// in float like the GPU). Texture sampling is emulated by TransmittanceTable,
+// in float like the GPU). Texture sampling is emulated by Lut2D,
 // with GL_LINEAR + GL_CLAMP_TO_EDGE semantics.
 #pragma once
 
@@ -12,7 +12,7 @@ namespace atmo::twin {
 using namespace glm;
 
 // Row-major table of RGB transmittance, `width` along u (x_mu), `height` along v (x_r).
-struct TransmittanceTable {
+struct Lut2D {
   int width = 0;
   int height = 0;
   std::vector<vec3> texels;
@@ -20,7 +20,7 @@ struct TransmittanceTable {
 };
 
 // Bilinear filtering with clamp-to-edge, as GL does for texture(sampler2D, uv).
-inline vec3 sample_transmittance(const TransmittanceTable& table, const vec2& uv) {
+inline vec3 sample_lut(const Lut2D& table, const vec2& uv) {
   float fx = uv.x * table.width - 0.5f;
   float fy = uv.y * table.height - 0.5f;
   int x0 = static_cast<int>(floor(fx));
@@ -37,11 +37,11 @@ inline vec3 sample_transmittance(const TransmittanceTable& table, const vec2& uv
 #define ATMO_FN inline
 #define IN(T) const T&
 #define OUT(T) T&
-#define TRANSMITTANCE_SAMPLER const TransmittanceTable&
+#define LUT2D const Lut2D&
 #include "atmosphere/functions.glsl"
 #undef ATMO_FN
 #undef IN
 #undef OUT
-#undef TRANSMITTANCE_SAMPLER
+#undef LUT2D
 
 }  // namespace atmo::twin

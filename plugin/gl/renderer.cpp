@@ -12,6 +12,8 @@ constexpr int kSkySteps = 32;
 constexpr int kAerialSteps = 16;
 constexpr GLuint kTransmittanceUnit = 0;
 constexpr GLuint kDepthUnit = 1;
+constexpr GLuint kMultipleScatteringUnit = 2;
+constexpr int kUnitsUsed = 3;
 
 std::string gl_error_string(GLenum e) {
   switch (e) {
@@ -39,7 +41,7 @@ bool Renderer::init(ProcLoader loader, void* user, std::string* error) {
   }
   while (glGetError() != GL_NO_ERROR) {}  // the host's errors are not ours
 
-  GlStateGuard guard(2);
+  GlStateGuard guard(kUnitsUsed);
   if (!build(&sky_, "sky.frag", error) || !build(&aerial_, "aerial_perspective.frag", error)) {
     destroy();
     return false;
@@ -55,6 +57,7 @@ bool Renderer::init(ProcLoader loader, void* user, std::string* error) {
   glSamplerParameteri(nearest_sampler_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glSamplerParameteri(nearest_sampler_, GL_TEXTURE_COMPARE_MODE, GL_NONE);
   glGenTextures(1, &transmittance_texture_);
+  glGenTextures(1, &multiple_scattering_texture_);
   GLenum e = glGetError();
   if (e != GL_NO_ERROR) {
     if (error) *error = "gl_init: " + gl_error_string(e) + " while creating objects";
@@ -84,6 +87,8 @@ bool Renderer::build(Program* p, const char* fragment_path, std::string* error) 
   p->ground_albedo = loc("u_atmosphere.ground_albedo");
   p->transmittance = loc("u_transmittance");
   p->transmittance_size = loc("u_transmittance_size");
+  p->multiple_scattering = loc("u_multiple_scattering");
+  p->multiple_scattering_size = loc("u_multiple_scattering_size");
   p->depth = loc("u_depth");
   p->has_depth = loc("u_has_depth");
   p->depth_convention = loc("u_depth_convention");
@@ -105,6 +110,7 @@ void Renderer::destroy() {
   if (aerial_.program) glDeleteProgram(aerial_.program);
   if (vao_) glDeleteVertexArrays(1, &vao_);
   if (transmittance_texture_) glDeleteTextures(1, &transmittance_texture_);
+  if (multiple_scattering_texture_) glDeleteTextures(1, &multiple_scattering_texture_);
   if (linear_sampler_) glDeleteSamplers(1, &linear_sampler_);
   if (nearest_sampler_) glDeleteSamplers(1, &nearest_sampler_);
   forget();
@@ -113,16 +119,20 @@ void Renderer::destroy() {
 void Renderer::forget() {
   sky_ = Program{};
   aerial_ = Program{};
-  vao_ = transmittance_texture_ = linear_sampler_ = nearest_sampler_ = 0;
+  vao_ = transmittance_texture_ = multiple_scattering_texture_ = linear_sampler_ = nearest_sampler_ = 0;
 }
 
-void Renderer::upload_transmittance(const twin::TransmittanceTable& table) {
+void Renderer::upload_tables(const twin::Lut2D& transmittance, const twin::Lut2D& multiple_scattering) {
   GlStateGuard guard(1);
   glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, transmittance_texture_);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, table.width, table.height, 0, GL_RGB, GL_FLOAT, table.texels.data());
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
-  transmittance_size_ = glm::vec2(table.width, table.height);
+  for (auto [texture, table] : {std::pair{transmittance_texture_, &transmittance},
+                                std::pair{multiple_scattering_texture_, &multiple_scattering}}) {
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, table->width, table->height, 0, GL_RGB, GL_FLOAT, table->texels.data());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+  }
+  transmittance_size_ = glm::vec2(transmittance.width, transmittance.height);
+  multiple_scattering_size_ = glm::vec2(multiple_scattering.width, multiple_scattering.height);
 }
 
 void Renderer::set_uniforms(const Program& p, const PassInputs& in, int steps) const {
@@ -143,6 +153,8 @@ void Renderer::set_uniforms(const Program& p, const PassInputs& in, int steps) c
   glUniform3fv(p.ground_albedo, 1, glm::value_ptr(a.ground_albedo));
   glUniform1i(p.transmittance, static_cast<GLint>(kTransmittanceUnit));
   glUniform2fv(p.transmittance_size, 1, glm::value_ptr(transmittance_size_));
+  glUniform1i(p.multiple_scattering, static_cast<GLint>(kMultipleScatteringUnit));
+  glUniform2fv(p.multiple_scattering_size, 1, glm::value_ptr(multiple_scattering_size_));
   glUniform1i(p.depth, static_cast<GLint>(kDepthUnit));
   glUniform1i(p.has_depth, in.depth_texture != 0 ? 1 : 0);
   glUniform1i(p.depth_convention, in.depth_convention);
@@ -162,7 +174,7 @@ void Renderer::set_uniforms(const Program& p, const PassInputs& in, int steps) c
 bool Renderer::draw(const Program& p, const PassInputs& in, int steps, bool dual_source_blend, std::string* error) {
   while (glGetError() != GL_NO_ERROR) {}  // errors the host left are not ours
   {
-    GlStateGuard guard(2);
+    GlStateGuard guard(kUnitsUsed);
     guard.use_single_draw_buffer();
     glUseProgram(p.program);
     set_uniforms(p, in, steps);
@@ -172,6 +184,9 @@ bool Renderer::draw(const Program& p, const PassInputs& in, int steps, bool dual
     glActiveTexture(GL_TEXTURE0 + kDepthUnit);
     glBindTexture(GL_TEXTURE_2D, in.depth_texture);
     glBindSampler(kDepthUnit, nearest_sampler_);
+    glActiveTexture(GL_TEXTURE0 + kMultipleScatteringUnit);
+    glBindTexture(GL_TEXTURE_2D, multiple_scattering_texture_);
+    glBindSampler(kMultipleScatteringUnit, linear_sampler_);
     glViewport(in.viewport[0], in.viewport[1], in.viewport[2], in.viewport[3]);
     if (dual_source_blend) {
       glEnablei(GL_BLEND, 0);

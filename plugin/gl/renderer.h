@@ -39,7 +39,8 @@ class Renderer {
   void forget();
   bool initialised() const { return sky_.program != 0; }
 
-  void upload_transmittance(const twin::TransmittanceTable& table);
+  // Uploads the transmittance and multiple-scattering tables (RGB32F).
+  void upload_tables(const twin::Lut2D& transmittance, const twin::Lut2D& multiple_scattering);
   // Each returns false and sets *error on a GL error; state is restored either way.
   bool draw_sky(const PassInputs& in, std::string* error);
   bool draw_aerial_perspective(const PassInputs& in, std::string* error);
@@ -51,7 +52,7 @@ class Renderer {
     GLint bottom_radius, top_radius, rayleigh_scattering, rayleigh_scale_height, mie_scattering,
         mie_extinction, mie_scale_height, mie_g, ozone_absorption, ozone_center, ozone_half_width,
         sun_illuminance, sun_angular_radius, ground_albedo;
-    GLint transmittance, transmittance_size, depth, has_depth, depth_convention, log_far, log_coefficient,
+    GLint transmittance, transmittance_size, multiple_scattering, multiple_scattering_size, depth, has_depth, depth_convention, log_far, log_coefficient,
         view_from_clip, enu_from_view, viewport, eye_altitude, sun_direction, exposure, output_encoding, steps;
   };
   bool build(Program* p, const char* fragment_path, std::string* error);
@@ -60,9 +61,9 @@ class Renderer {
 
   Program sky_, aerial_;
   GLuint vao_ = 0;
-  GLuint transmittance_texture_ = 0;
+  GLuint transmittance_texture_ = 0, multiple_scattering_texture_ = 0;
   GLuint linear_sampler_ = 0, nearest_sampler_ = 0;
-  glm::vec2 transmittance_size_{1.0f};
+  glm::vec2 transmittance_size_{1.0f}, multiple_scattering_size_{1.0f};
 };
 
 }  // namespace atmo::gl

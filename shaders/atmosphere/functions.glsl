@@ -131,12 +131,86 @@ ATMO_FN vec2 transmittance_r_mu_from_unit(IN(AtmosphereParameters) atm, IN(vec2)
 
 // Transmittance from a point at radius r towards the sun (direction cosine
 // mu_s), including the Earth's shadow smoothed over the sun's disc.
-ATMO_FN vec3 transmittance_to_sun(IN(AtmosphereParameters) atm, TRANSMITTANCE_SAMPLER lut, IN(vec2) lut_size,
+ATMO_FN vec3 transmittance_to_sun(IN(AtmosphereParameters) atm, LUT2D lut, IN(vec2) lut_size,
                           float r, float mu_s) {
   float sin_h = atm.bottom_radius_m / r;
   float cos_h = -sqrt(max(1.0f - sin_h * sin_h, 0.0f));
   float visible = smoothstep(-sin_h * atm.sun_angular_radius, sin_h * atm.sun_angular_radius, mu_s - cos_h);
-  return sample_transmittance(lut, transmittance_uv_from_r_mu(atm, r, mu_s, lut_size)) * visible;
+  return sample_lut(lut, transmittance_uv_from_r_mu(atm, r, mu_s, lut_size)) * visible;
+}
+
+// --- Multiple scattering (Hillaire 2020, isotropic approximation) ------------
+// Psi_ms(r, mu_s): radiance of all orders >= 2 reaching a point, per unit sun
+// illuminance and per unit scattering coefficient, assuming the light
+// scattered twice or more is isotropic. The table is indexed by
+// u = mu_s * 0.5 + 0.5 and v = altitude / thickness (texel centres at the edges).
+
+ATMO_FN vec2 multiple_scattering_uv(IN(AtmosphereParameters) atm, float r, float mu_s, IN(vec2) lut_size) {
+  float x_mu = clamp(mu_s * 0.5f + 0.5f, 0.0f, 1.0f);
+  float x_r = clamp((r - atm.bottom_radius_m) / (atm.top_radius_m - atm.bottom_radius_m), 0.0f, 1.0f);
+  return vec2(0.5f / lut_size.x + x_mu * (1.0f - 1.0f / lut_size.x),
+              0.5f / lut_size.y + x_r * (1.0f - 1.0f / lut_size.y));
+}
+
+// Direction i of n, evenly spread over the sphere (Fibonacci lattice).
+ATMO_FN vec3 sphere_direction(int i, int n) {
+  float z = 1.0f - 2.0f * (float(i) + 0.5f) / float(n);
+  float radius = sqrt(max(1.0f - z * z, 0.0f));
+  float phi = 2.39996323f * float(i);  // golden angle
+  return vec3(radius * cos(phi), radius * sin(phi), z);
+}
+
+// One texel of the table: from a point at radius r with the sun at cosine
+// mu_s (ENU at that point, so the planet centre is straight below), march
+// `directions` rays. Second-order light L2 (single scattering seen from the
+// point, isotropic phase, plus the lit ground) and the transfer f_ms (how much
+// of an isotropic unit radiance field scatters back) give the geometric series
+// of all higher orders: Psi_ms = L2 / (1 - f_ms).
+ATMO_FN vec3 multiple_scattering_texel(IN(AtmosphereParameters) atm, LUT2D transmittance, IN(vec2) lut_size,
+                                       float r, float mu_s, int directions, int steps) {
+  vec3 origin = vec3(0.0f, 0.0f, r);  // planet-centred, point on the +z axis
+  vec3 sun_dir = vec3(sqrt(max(1.0f - mu_s * mu_s, 0.0f)), 0.0f, mu_s);
+  const float isotropic = 1.0f / (4.0f * ATMO_PI);
+  vec3 l2 = vec3(0.0f);
+  vec3 f_ms = vec3(0.0f);
+  for (int d = 0; d < directions; ++d) {
+    vec3 dir = sphere_direction(d, directions);
+    float t_top = ray_sphere_far(origin, dir, atm.top_radius_m);
+    float t_ground = ray_sphere_near(origin, dir, atm.bottom_radius_m);
+    bool hits_ground = t_ground > 0.0f;
+    float t_end = hits_ground ? t_ground : max(t_top, 0.0f);
+    float dt = t_end / float(steps);
+    vec3 tau = vec3(0.0f);
+    vec3 light = vec3(0.0f);
+    vec3 transfer = vec3(0.0f);
+    for (int i = 0; i < steps; ++i) {
+      float t = (float(i) + 0.5f) * dt;
+      vec3 p = origin + dir * t;
+      float rp = length(p);
+      float altitude = rp - atm.bottom_radius_m;
+      float rd = rayleigh_density(atm, altitude);
+      float md = mie_density(atm, altitude);
+      vec3 sigma_s = atm.rayleigh_scattering * rd + atm.mie_scattering * md;
+      vec3 sigma_t = atm.rayleigh_scattering * rd + atm.mie_extinction * md +
+                     atm.ozone_absorption * ozone_density(atm, altitude);
+      vec3 t_view = exp(-(tau + sigma_t * (0.5f * dt)));
+      vec3 t_sun = transmittance_to_sun(atm, transmittance, lut_size, rp, dot(p, sun_dir) / rp);
+      light += t_view * sigma_s * t_sun * (isotropic * dt);
+      transfer += t_view * sigma_s * dt;
+      tau += sigma_t * dt;
+    }
+    if (hits_ground) {
+      vec3 g = origin + dir * t_ground;
+      float mu_g = dot(normalize(g), sun_dir);
+      vec3 t_sun = transmittance_to_sun(atm, transmittance, lut_size, atm.bottom_radius_m, mu_g);
+      light += exp(-tau) * t_sun * max(mu_g, 0.0f) * atm.ground_albedo / ATMO_PI;
+    }
+    l2 += light;
+    f_ms += transfer * isotropic;
+  }
+  l2 *= 1.0f / float(directions);
+  f_ms *= 4.0f * ATMO_PI / float(directions);  // integral over the sphere with the isotropic phase
+  return l2 / max(vec3(1.0f) - f_ms, vec3(1e-3f));
 }
 
 // --- Single scattering along a view ray -------------------------------------
@@ -146,12 +220,13 @@ struct ScatteringResult {
   vec3 transmittance;  // along the segment
 };
 
-// Integrates single scattering (Rayleigh + Mie) from the eye along `dir` over
-// [0, max_distance] clipped to the atmosphere, with `steps` samples placed
-// denser near the eye. altitude of the eye in metres (>= 0 for sampling).
-ATMO_FN ScatteringResult integrate_single_scattering(IN(AtmosphereParameters) atm, TRANSMITTANCE_SAMPLER lut,
-                                             IN(vec2) lut_size, float eye_altitude_m, IN(vec3) dir,
-                                             IN(vec3) sun_dir, float max_distance, int steps) {
+// Integrates scattered light (single scattering of Rayleigh + Mie with their
+// phase functions, plus the isotropic multiple-scattering term sigma_s * Psi_ms)
+// from the eye along `dir` over [0, max_distance] clipped to the atmosphere,
+// with `steps` samples placed denser near the eye. Eye altitude in metres.
+ATMO_FN ScatteringResult integrate_scattering(IN(AtmosphereParameters) atm, LUT2D lut, IN(vec2) lut_size,
+                                              LUT2D ms_lut, IN(vec2) ms_size, float eye_altitude_m, IN(vec3) dir,
+                                              IN(vec3) sun_dir, float max_distance, int steps) {
   ScatteringResult result;
   result.inscattered = vec3(0.0f);
   result.transmittance = vec3(1.0f);
@@ -203,7 +278,9 @@ ATMO_FN ScatteringResult integrate_single_scattering(IN(AtmosphereParameters) at
     float mu_s = dot(p, sun_dir) / r;
     vec3 t_sun = transmittance_to_sun(atm, lut, lut_size, r, mu_s);
     vec3 scatter = atm.rayleigh_scattering * (rd * phase_r) + atm.mie_scattering * (md * phase_m);
-    result.inscattered += t_view * t_sun * scatter * dt;
+    vec3 sigma_s = atm.rayleigh_scattering * rd + atm.mie_scattering * md;
+    vec3 psi_ms = sample_lut(ms_lut, multiple_scattering_uv(atm, r, mu_s, ms_size));
+    result.inscattered += t_view * (t_sun * scatter + sigma_s * psi_ms) * dt;
     optical_depth += sigma_t * dt;
   }
   result.transmittance = exp(-optical_depth);
@@ -213,7 +290,7 @@ ATMO_FN ScatteringResult integrate_single_scattering(IN(AtmosphereParameters) at
 
 // Radiance of the Lambertian ground seen at distance t_ground along dir, lit by
 // the transmitted sun (a crude sky term is added by the caller if wanted).
-ATMO_FN vec3 ground_radiance(IN(AtmosphereParameters) atm, TRANSMITTANCE_SAMPLER lut, IN(vec2) lut_size,
+ATMO_FN vec3 ground_radiance(IN(AtmosphereParameters) atm, LUT2D lut, IN(vec2) lut_size,
                      float eye_altitude_m, IN(vec3) dir, IN(vec3) sun_dir, float t_ground) {
   vec3 center = vec3(0.0f, 0.0f, -(atm.bottom_radius_m + eye_altitude_m));
   vec3 p = dir * t_ground - center;
@@ -275,9 +352,10 @@ ATMO_FN vec3 view_ray_from_ndc(IN(mat4) view_from_clip, IN(vec2) ndc_xy, int con
 // Sky radiance (cd/m^2) along an ENU direction: in-scattering to the top of
 // the atmosphere, plus the sun's disc, or the lit ground where the ray meets
 // the Earth. eye_altitude_m must be >= 1.
-ATMO_FN vec3 sky_radiance(IN(AtmosphereParameters) atm, TRANSMITTANCE_SAMPLER lut, IN(vec2) lut_size,
-                          float eye_altitude_m, IN(vec3) dir, IN(vec3) sun_dir, int steps) {
-  ScatteringResult s = integrate_single_scattering(atm, lut, lut_size, eye_altitude_m, dir, sun_dir, 1e12f, steps);
+ATMO_FN vec3 sky_radiance(IN(AtmosphereParameters) atm, LUT2D lut, IN(vec2) lut_size, LUT2D ms_lut,
+                          IN(vec2) ms_size, float eye_altitude_m, IN(vec3) dir, IN(vec3) sun_dir, int steps) {
+  ScatteringResult s = integrate_scattering(atm, lut, lut_size, ms_lut, ms_size, eye_altitude_m, dir, sun_dir, 1e12f,
+                                            steps);
   vec3 center = vec3(0.0f, 0.0f, -(atm.bottom_radius_m + eye_altitude_m));
   float t_ground = ray_sphere_near(-center, dir, atm.bottom_radius_m);
   vec3 behind = t_ground > 0.0f ? ground_radiance(atm, lut, lut_size, eye_altitude_m, dir, sun_dir, t_ground)

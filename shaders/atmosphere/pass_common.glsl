@@ -3,14 +3,16 @@
 #define ATMO_FN
 #define IN(T) in T
 #define OUT(T) out T
-#define TRANSMITTANCE_SAMPLER sampler2D
-vec3 sample_transmittance(sampler2D lut, vec2 uv) { return texture(lut, uv).rgb; }
+#define LUT2D sampler2D
+vec3 sample_lut(sampler2D lut, vec2 uv) { return texture(lut, uv).rgb; }
 
 #include "atmosphere/functions.glsl"
 
 uniform AtmosphereParameters u_atmosphere;
 uniform sampler2D u_transmittance;
 uniform vec2 u_transmittance_size;
+uniform sampler2D u_multiple_scattering;
+uniform vec2 u_multiple_scattering_size;
 uniform sampler2D u_depth;        // host depth texture (window-space values)
 uniform int u_has_depth;
 uniform int u_depth_convention;   // AtmoDepthConvention

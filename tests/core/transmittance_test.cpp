@@ -38,7 +38,7 @@ TEST(Transmittance, TableMatchesBruteForceAboveTheHorizon) {
       double mu_horizon = -std::sqrt(std::max(0.0, 1.0 - std::pow(atm.bottom_radius_m / r, 2)));
       double mu = mu_horizon + 0.02 + (1.0 - mu_horizon - 0.02) * u(rng);  // not grazing the ground
       glm::vec2 uv = twin::transmittance_uv_from_r_mu(atm, float(r), float(mu), glm::vec2(table.width, table.height));
-      glm::vec3 t = twin::sample_transmittance(table, uv);
+      glm::vec3 t = twin::sample_lut(table, uv);
       for (int c = 0; c < 3; ++c) {
         double ref = brute_force_transmittance(atm, r, mu, c);
         worst_abs = std::max(worst_abs, std::abs(t[c] - ref));

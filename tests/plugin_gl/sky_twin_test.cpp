@@ -82,6 +82,8 @@ TEST(SkyPass, MatchesCpuTwinAcrossConditions) {
     auto lut = atmo::core::compute_transmittance_table(scene.atmosphere, atmo::core::kTransmittanceWidth,
                                                        atmo::core::kTransmittanceHeight);
     const glm::vec2 lut_size(lut.width, lut.height);
+    auto ms = atmo::core::compute_multiple_scattering_table(scene.atmosphere, lut);
+    const glm::vec2 ms_size(ms.width, ms.height);
 
     double worst = 0.0;
     int compared = 0;
@@ -90,7 +92,7 @@ TEST(SkyPass, MatchesCpuTwinAcrossConditions) {
         glm::vec2 ndc((x + 0.5f) / kWidth * 2.0f - 1.0f, (y + 0.5f) / kHeight * 2.0f - 1.0f);
         glm::vec3 ray = atmo::twin::view_ray_from_ndc(glm::mat4(eye.view_from_clip), ndc, 0);
         glm::vec3 dir = glm::normalize(glm::mat3(eye.enu_from_view) * ray);
-        glm::vec3 cpu = atmo::twin::sky_radiance(scene.atmosphere, lut, lut_size, float(scene.eye_altitude_m), dir,
+        glm::vec3 cpu = atmo::twin::sky_radiance(scene.atmosphere, lut, lut_size, ms, ms_size, float(scene.eye_altitude_m), dir,
                                                  glm::vec3(scene.sun_direction_enu), 32);
         const float* gpu = image.pixel(x, kHeight - 1 - y);  // image row 0 is the top
         ASSERT_TRUE(std::isfinite(gpu[0]) && std::isfinite(gpu[1]) && std::isfinite(gpu[2]));
