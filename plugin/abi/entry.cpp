@@ -384,6 +384,25 @@ AtmoResult get_lighting(AtmoView view_handle, AtmoLighting* out) {
     glm::vec3 t = atmo::twin::transmittance_to_sun(atm, ctx->lut, glm::vec2(ctx->lut.width, ctx->lut.height), r,
                                                    static_cast<float>(enu.z));
     for (int i = 0; i < 3; ++i) l.sun_illuminance_lux[i] = static_cast<double>(atm.sun_illuminance_lux[i] * t[i]);
+    // Sky light: ~2 ms of CPU, so only when the sun, the altitude or the air changed enough.
+    constexpr double kSkyLightingSunStepRad = 0.1 * M_PI / 180.0;
+    const bool stale = !view->have_sky_lighting || view->sky_lighting_lut_version != ctx->lut_version ||
+                       glm::dot(view->sky_lighting_sun_enu, scene.sun_direction_enu) < std::cos(kSkyLightingSunStepRad) ||
+                       std::abs(view->sky_lighting_altitude_m - scene.eye_altitude_m) >
+                           0.01 * scene.eye_altitude_m + 10.0;
+    if (stale) {
+      view->sky_lighting = atmo::core::compute_sky_lighting(scene, ctx->lut, ctx->multiple_scattering);
+      view->sky_lighting_sun_enu = scene.sun_direction_enu;
+      view->sky_lighting_altitude_m = scene.eye_altitude_m;
+      view->sky_lighting_lut_version = ctx->lut_version;
+      view->have_sky_lighting = true;
+    }
+    const atmo::core::SkyLighting& sky = view->sky_lighting;
+    for (int i = 0; i < 3; ++i) {
+      for (int k = 0; k < 9; ++k) l.sky_irradiance_sh9[k][i] = sky.irradiance_sh9[k][i];
+      l.sky_illuminance_horizontal_lux[i] = sky.horizontal_illuminance_lux[i];
+      l.sky_average_radiance[i] = sky.average_radiance[i];
+    }
     // Write back what the host's struct can hold, keeping its header.
     size_t n = out->header.struct_size < sizeof(l) ? out->header.struct_size : sizeof(l);
     l.header = out->header;

@@ -11,6 +11,7 @@
 #include "atmo/atmo.h"
 #include "core/atmosphere_model.h"
 #include "core/eye_frame.h"
+#include "core/sky_lighting.h"
 #include "gl/renderer.h"
 
 struct AtmoView_T;
@@ -53,6 +54,15 @@ struct AtmoView_T {
   bool have_state = false;
   AtmoViewState state{};
   atmo::core::EyeFrame eye;
+
+  // Sky light for get_lighting, recomputed when the sun moves more than
+  // kSkyLightingSunStepRad, the eye's altitude changes by more than 1 % (+ 10 m)
+  // or the tables change.
+  bool have_sky_lighting = false;
+  glm::dvec3 sky_lighting_sun_enu{0.0};
+  double sky_lighting_altitude_m = 0.0;
+  uint64_t sky_lighting_lut_version = 0;
+  atmo::core::SkyLighting sky_lighting;
 };
 
 namespace atmo::abi {

@@ -349,18 +349,37 @@ ATMO_FN vec3 view_ray_from_ndc(IN(mat4) view_from_clip, IN(vec2) ndc_xy, int con
   return normalize(vec3(p) / p.w);
 }
 
-// Sky radiance (cd/m^2) along an ENU direction: in-scattering to the top of
-// the atmosphere, plus the sun's disc, or the lit ground where the ray meets
-// the Earth. eye_altitude_m must be >= 1.
-ATMO_FN vec3 sky_radiance(IN(AtmosphereParameters) atm, LUT2D lut, IN(vec2) lut_size, LUT2D ms_lut,
-                          IN(vec2) ms_size, float eye_altitude_m, IN(vec3) dir, IN(vec3) sun_dir, int steps) {
+// Sky radiance (cd/m^2) along an ENU direction, split so ambient lighting can
+// leave out the sun (a separate light): `diffuse` is the in-scattered light to
+// the top of the atmosphere plus, where the ray meets the Earth, the lit ground
+// seen through the air; `sun_visible` says the ray reaches space, where the
+// sun's disc (times `transmittance`) is added. eye_altitude_m must be >= 1.
+struct SkyRadiance {
+  vec3 diffuse;
+  vec3 transmittance;
+  bool sun_visible;
+};
+
+ATMO_FN SkyRadiance sky_radiance_parts(IN(AtmosphereParameters) atm, LUT2D lut, IN(vec2) lut_size, LUT2D ms_lut,
+                                       IN(vec2) ms_size, float eye_altitude_m, IN(vec3) dir, IN(vec3) sun_dir,
+                                       int steps) {
   ScatteringResult s = integrate_scattering(atm, lut, lut_size, ms_lut, ms_size, eye_altitude_m, dir, sun_dir, 1e12f,
                                             steps);
   vec3 center = vec3(0.0f, 0.0f, -(atm.bottom_radius_m + eye_altitude_m));
   float t_ground = ray_sphere_near(-center, dir, atm.bottom_radius_m);
-  vec3 behind = t_ground > 0.0f ? ground_radiance(atm, lut, lut_size, eye_altitude_m, dir, sun_dir, t_ground)
-                                : sun_disc_radiance(atm, dir, sun_dir);
-  return s.inscattered + s.transmittance * behind;
+  SkyRadiance r;
+  r.transmittance = s.transmittance;
+  r.sun_visible = !(t_ground > 0.0f);
+  r.diffuse = s.inscattered;
+  if (!r.sun_visible)
+    r.diffuse += s.transmittance * ground_radiance(atm, lut, lut_size, eye_altitude_m, dir, sun_dir, t_ground);
+  return r;
+}
+
+ATMO_FN vec3 sky_radiance(IN(AtmosphereParameters) atm, LUT2D lut, IN(vec2) lut_size, LUT2D ms_lut,
+                          IN(vec2) ms_size, float eye_altitude_m, IN(vec3) dir, IN(vec3) sun_dir, int steps) {
+  SkyRadiance r = sky_radiance_parts(atm, lut, lut_size, ms_lut, ms_size, eye_altitude_m, dir, sun_dir, steps);
+  return r.sun_visible ? r.diffuse + r.transmittance * sun_disc_radiance(atm, dir, sun_dir) : r.diffuse;
 }
 
 // --- Output encoding -----------------------------------------------------------

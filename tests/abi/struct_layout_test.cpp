@@ -20,7 +20,9 @@ TEST(StructLayout, Version1SizesAreFrozen) {
   EXPECT_EQ(sizeof(AtmoFrameState), V1Size<AtmoFrameState>::value);
   EXPECT_EQ(sizeof(AtmoViewState), V1Size<AtmoViewState>::value);
   EXPECT_EQ(sizeof(AtmoPassInfo), V1Size<AtmoPassInfo>::value);
-  EXPECT_EQ(sizeof(AtmoLighting), V1Size<AtmoLighting>::value);
+  // AtmoLighting grew at its end (sky light); hosts with the 104-byte layout keep working.
+  EXPECT_EQ(V1Size<AtmoLighting>::value, 104u);
+  EXPECT_EQ(sizeof(AtmoLighting), 368u);
 }
 
 TEST(StructLayout, Version1OffsetsAreFrozen) {
@@ -35,4 +37,6 @@ TEST(StructLayout, Version1OffsetsAreFrozen) {
   EXPECT_EQ(offsetof(AtmoViewState, depth_texture), 368u);
   EXPECT_EQ(offsetof(AtmoViewState, exposure_scale), 400u);
   EXPECT_EQ(offsetof(AtmoLighting, sun_illuminance_lux), 80u);
+  EXPECT_EQ(offsetof(AtmoLighting, sky_irradiance_sh9), 104u);
+  EXPECT_EQ(offsetof(AtmoLighting, sky_average_radiance), 344u);
 }

@@ -88,13 +88,18 @@ TEST(Lighting, FromAtmo) {
   l.sun_direction_enu[2] = 2.0;  // not unit: normalised
   l.sun_elevation_rad = 1.5707963267948966;
   l.sun_illuminance_lux[0] = l.sun_illuminance_lux[1] = l.sun_illuminance_lux[2] = 100000.0;
+  l.sky_illuminance_horizontal_lux[0] = 9000.0;
+  l.sky_illuminance_horizontal_lux[1] = 12000.0;
+  l.sky_illuminance_horizontal_lux[2] = 20000.0;
   const hs::SceneLighting s = hs::lighting_from_atmo(l);
   EXPECT_NEAR(s.sun_direction_enu.z, 1.0, 1e-12);
-  EXPECT_GT(s.sky_ambient_lux.y, 10000.0);
-  EXPECT_LT(s.sky_ambient_lux.y, 40000.0);
+  // The terrain's ambient is the plugin's sky illuminance (plus a starlight floor).
+  EXPECT_NEAR(s.sky_ambient_lux.y, 12000.0, 0.01);
+  EXPECT_NEAR(s.sky_ambient_lux.z, 20000.0, 0.01);
 
   l.sun_elevation_rad = -0.3;  // -17 deg: night
   l.sun_illuminance_lux[0] = l.sun_illuminance_lux[1] = l.sun_illuminance_lux[2] = 0.0;
+  l.sky_illuminance_horizontal_lux[0] = l.sky_illuminance_horizontal_lux[1] = l.sky_illuminance_horizontal_lux[2] = 0.0;
   const hs::SceneLighting night = hs::lighting_from_atmo(l);
   EXPECT_LT(night.sky_ambient_lux.y, 0.1);
   EXPECT_GT(night.sky_ambient_lux.y, 0.0);

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <memory>
 #include <sstream>
@@ -340,6 +341,23 @@ CheckResult check_state_structs(const std::string& path) {
   double n = std::sqrt(l1.sun_direction_enu[0] * l1.sun_direction_enu[0] + l1.sun_direction_enu[1] * l1.sun_direction_enu[1] +
                        l1.sun_direction_enu[2] * l1.sun_direction_enu[2]);
   if (std::abs(n - 1.0) > 1e-6) return fail("get_lighting: sun direction is not a unit vector");
+  // A host compiled with the first, 104-byte AtmoLighting: its part is filled, nothing beyond it is written.
+  struct OldHostLighting {
+    unsigned char first_layout[104];
+    uint64_t canary[8];
+  } old;
+  std::memset(&old, 0xCD, sizeof(old));
+  AtmoStructHeader old_header = {ATMO_TYPE_LIGHTING, 104, nullptr};
+  std::memcpy(old.first_layout, &old_header, sizeof(old_header));
+  if (!(why = expect(s.plugin, api.get_lighting(s.view, reinterpret_cast<AtmoLighting*>(&old)), ATMO_SUCCESS,
+                     "get_lighting with the 104-byte layout")).empty())
+    return fail(why);
+  for (uint64_t c : old.canary)
+    if (c != 0xCDCDCDCDCDCDCDCDull) return fail("get_lighting wrote past a 104-byte AtmoLighting");
+  double old_sun_z;
+  std::memcpy(&old_sun_z, old.first_layout + offsetof(AtmoLighting, sun_direction_enu) + 2 * sizeof(double),
+              sizeof(double));
+  if (std::abs(old_sun_z - l1.sun_direction_enu[2]) > 1e-12) return fail("the 104-byte AtmoLighting was not filled");
   return pass();
 }
 

@@ -331,6 +331,19 @@ typedef struct AtmoLighting {
   double sun_elevation_rad;       /* geometric elevation above the horizontal plane */
   double sun_azimuth_rad;         /* from north, clockwise (east = pi/2) */
   double sun_illuminance_lux[3];  /* on a surface facing the sun at the eye, after the atmosphere, linear RGB */
+
+  /* Sky light, the sun excluded (it is the light above), in ENU axes at the
+     eye. These fields grew the struct after its first 104-byte layout: a host
+     compiled with that layout still works and gets the fields above only. */
+  /* Irradiance as 9 real spherical-harmonic coefficients (Ramamoorthi &
+     Hanrahan 2001), lux, linear RGB: E(n) = sum_k sh9[k] * Y_k(n) for a unit
+     normal n = (east, north, up), with Y_0 = 0.282095, Y_1..3 = 0.488603 (y, z, x),
+     Y_4 = 1.092548 xy, Y_5 = 1.092548 yz, Y_6 = 0.315392 (3z^2 - 1),
+     Y_7 = 1.092548 xz, Y_8 = 0.546274 (x^2 - y^2). Includes the ground seen
+     below the horizon. Error: <= 6 % of the largest irradiance (docs/SKY.md). */
+  double sky_irradiance_sh9[9][3];
+  double sky_illuminance_horizontal_lux[3]; /* on an upward-facing surface (direct quadrature, not the SH) */
+  double sky_average_radiance[3];           /* cd/m^2, mean over the upper hemisphere: the sky's colour */
 } AtmoLighting;
 
 /* ------------------------------------------------------------------------ */

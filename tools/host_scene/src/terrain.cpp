@@ -248,17 +248,11 @@ SceneLighting lighting_from_atmo(const AtmoLighting& lighting) {
   out.sun_direction_enu = len > 0 ? out.sun_direction_enu / len : glm::dvec3(0, 0, 1);
   out.sun_illuminance_lux = glm::dvec3(lighting.sun_illuminance_lux[0], lighting.sun_illuminance_lux[1],
                                        lighting.sun_illuminance_lux[2]);
-  // Rough clear-sky diffuse illuminance: ~20 % of the sun's, scaled by its
-  // elevation, over a twilight term (~400 lux at sunset, ~3 lux at -6 deg,
-  // starlight below -18 deg).
-  const double elevation_deg = glm::degrees(lighting.sun_elevation_rad);
-  const glm::dvec3& sun = out.sun_illuminance_lux;
-  const double sun_luminance = 0.2126 * sun.x + 0.7152 * sun.y + 0.0722 * sun.z;
-  double sky = 0.2 * sun_luminance * std::max(std::sin(lighting.sun_elevation_rad), 0.0);
-  if (elevation_deg > -18.0) sky += 400.0 * std::pow(10.0, 0.36 * std::min(elevation_deg, 0.0));
-  sky += 0.001;
-  const glm::dvec3 tint(0.80, 0.95, 1.25);  // bluish sky light, luminance ~1
-  out.sky_ambient_lux = tint * sky;
+  // The plugin's sky illuminance on a horizontal surface (the terrain's
+  // ambient term), plus a floor of starlight-level light so night is not 0.
+  out.sky_ambient_lux = glm::dvec3(lighting.sky_illuminance_horizontal_lux[0], lighting.sky_illuminance_horizontal_lux[1],
+                                   lighting.sky_illuminance_horizontal_lux[2]) +
+                        glm::dvec3(0.001);
   return out;
 }
 
