@@ -3,6 +3,7 @@
 // image must not jump when a huge ECEF eye moves by a millimetre.
 #include <glad/gl.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <vector>
 
@@ -117,5 +118,58 @@ TEST(Robustness, MillimetreMovesOfAnEcefEyeDoNotJitter) {
   std::printf("[ robustness ] ECEF eye at 6 379 km moved in 1 mm steps: worst per-pixel relative change %.2e\n",
               worst_step);
   EXPECT_LT(worst_step, 1e-3);
+  glDeleteTextures(1, &depth);
+}
+
+// The same camera given in the host's local ENU frame and in ECEF (the world
+// moved by ~6.4e6 m): the 8-bit images may differ by at most one level.
+TEST(Robustness, EcefWorldGivesTheSameImageAsALocalWorld) {
+  Fixture f;
+  auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+  frame.utc_posix_s = 1718989800.0;  // low sun: the most colour and gradient
+  f.context->set_frame(frame);
+  GLuint depth = make_half_depth();
+  const double lat = 47.26, lon = 11.35, height = 900.0;
+  auto local = view_at(lat, lon, height, 300.0, 3.0, depth);
+  local.exposure_scale = 1.0 / (1.2 * 4096.0);  // EV100 12
+  local.output_encoding = ATMO_OUTPUT_DISPLAY_SRGB;
+
+  // ECEF: eye in ECEF metres, view rotation expressed in ECEF axes.
+  auto ecef = local;
+  ecef.eye_kind = ATMO_POSITION_ECEF;
+  ecef.world_frame = ATMO_WORLD_ECEF;
+  const double la = glm::radians(lat), lo = glm::radians(lon);
+  const double semi_major = 6378137.0, e2 = 6.69437999014e-3;
+  const double n = semi_major / std::sqrt(1.0 - e2 * std::sin(la) * std::sin(la));
+  ecef.eye_ecef_m[0] = (n + height) * std::cos(la) * std::cos(lo);
+  ecef.eye_ecef_m[1] = (n + height) * std::cos(la) * std::sin(lo);
+  ecef.eye_ecef_m[2] = (n * (1.0 - e2) + height) * std::sin(la);
+  const glm::dvec3 east(-std::sin(lo), std::cos(lo), 0.0);
+  const glm::dvec3 north(-std::sin(la) * std::cos(lo), -std::sin(la) * std::sin(lo), std::cos(la));
+  const glm::dvec3 up(std::cos(la) * std::cos(lo), std::cos(la) * std::sin(lo), std::sin(la));
+  const glm::dmat3 ecef_from_enu(east, north, up);
+  const glm::dmat4 view_enu = look(300.0, 3.0);
+  const glm::dmat3 view_rotation = glm::dmat3(view_enu) * glm::transpose(ecef_from_enu);
+  copy(glm::dmat4(view_rotation), ecef.view_from_world);
+
+  auto render = [&](const AtmoViewState& vs) {
+    f.view->set(vs);
+    f.target->bind();
+    f.target->clear(0.1f, 0.2f, 0.3f, 1.0f);
+    EXPECT_EQ(f.view->render(ATMO_PASS_SKY), ATMO_SUCCESS);
+    EXPECT_EQ(f.view->render(ATMO_PASS_AERIAL_PERSPECTIVE), ATMO_SUCCESS);
+    return f.target->read_color();
+  };
+  atmo::support::Image a = render(local), b = render(ecef);
+  int worst_levels = 0;
+  for (size_t i = 0; i < a.pixel_count(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      int la8 = static_cast<int>(std::lround(std::clamp(a.rgba[i * 4 + c], 0.0f, 1.0f) * 255.0f));
+      int lb8 = static_cast<int>(std::lround(std::clamp(b.rgba[i * 4 + c], 0.0f, 1.0f) * 255.0f));
+      worst_levels = std::max(worst_levels, std::abs(la8 - lb8));
+    }
+  std::printf("[ robustness ] local ENU world vs ECEF world (6.4e6 m coordinates): worst 8-bit difference %d level(s)\n",
+              worst_levels);
+  EXPECT_LE(worst_levels, 1);
   glDeleteTextures(1, &depth);
 }
