@@ -1,44 +1,49 @@
 #include "core/atmosphere_model.h"
 
+#include "core/spectral/colorimetry.h"
+#include "core/spectral/spectral_atmosphere.h"
+
 #include <algorithm>
 #include <cmath>
 
 namespace atmo::core {
 
 namespace {
-const glm::dvec3 kWavelengthsNm(680.0, 550.0, 440.0);
-const glm::dvec3 kRayleighScattering(5.802e-6, 13.558e-6, 33.1e-6);
-const glm::dvec3 kOzoneAbsorption(0.650e-6, 1.881e-6, 0.085e-6);
-constexpr double kAerosolSingleScatteringAlbedo = 0.9;
-constexpr double kAngstromExponent = 1.3;
-constexpr double kMinAerosolExtinction = 2e-7;
 }  // namespace
 
 twin::AtmosphereParameters make_atmosphere_parameters(const AtmosphereSettings& s, double bottom_radius_m,
                                                       double sun_distance_au) {
+  // Coefficients at the three wavelengths from the spectral definition of the
+  // air (first-principles Rayleigh, ozone cross-sections, the same aerosol rule).
+  const spectral::RgbCoefficients c = spectral::rgb_model_coefficients(s.visibility_m, s.aerosol_scale_height_m);
   twin::AtmosphereParameters atm{};
   atm.bottom_radius_m = static_cast<float>(bottom_radius_m);
   atm.top_radius_m = static_cast<float>(bottom_radius_m + kAtmosphereThicknessM);
-  atm.rayleigh_scattering = glm::vec3(kRayleighScattering);
+  atm.rayleigh_scattering = glm::vec3(c.rayleigh_scattering);
   atm.rayleigh_scale_height_m = 8000.0f;
-
-  const double total_550 = std::log(20.0) / s.visibility_m;
-  const double aerosol_550 = std::max(total_550 - kRayleighScattering.y, kMinAerosolExtinction);
-  glm::dvec3 aerosol_ext;
-  for (int c = 0; c < 3; ++c) aerosol_ext[c] = aerosol_550 * std::pow(kWavelengthsNm[c] / 550.0, -kAngstromExponent);
-  atm.mie_extinction = glm::vec3(aerosol_ext);
-  atm.mie_scattering = glm::vec3(aerosol_ext * kAerosolSingleScatteringAlbedo);
+  atm.mie_extinction = glm::vec3(c.mie_extinction);
+  atm.mie_scattering = glm::vec3(c.mie_scattering);
   atm.mie_scale_height_m = static_cast<float>(s.aerosol_scale_height_m);
   atm.mie_g = 0.8f;
-
-  atm.ozone_absorption = glm::vec3(kOzoneAbsorption);
+  atm.ozone_absorption = glm::vec3(c.ozone_absorption);
   atm.ozone_center_m = 25000.0f;
   atm.ozone_half_width_m = 15000.0f;
-
-  atm.sun_illuminance_lux = glm::vec3(static_cast<float>(kSunIlluminanceAt1AuLux / (sun_distance_au * sun_distance_au)));
+  atm.sun_illuminance_lux = glm::vec3(sun_rgb_illuminance_at_1au_lux() / (sun_distance_au * sun_distance_au));
   atm.sun_angular_radius = static_cast<float>(kSunAngularRadiusRad);
   atm.ground_albedo = glm::vec3(static_cast<float>(s.ground_albedo));
   return atm;
+}
+
+glm::dvec3 sun_rgb_illuminance_at_1au_lux() {
+  // The solar spectrum through the CIE 1931 observer, once: each channel then
+  // scales that channel's scattering (Bruneton 2017's three-wavelength rendering).
+  static const glm::dvec3 rgb = [] {
+    const std::vector<double> grid = spectral::wavelength_grid(360.0, 830.0, 5.0);
+    std::vector<double> irradiance;
+    for (double nm : grid) irradiance.push_back(spectral::solar_irradiance_blackbody(nm));
+    return spectral::SpectrumToColor(grid).linear_srgb(irradiance);
+  }();
+  return rgb;
 }
 
 twin::Lut2D compute_transmittance_table(const twin::AtmosphereParameters& atm, int width,
@@ -56,14 +61,24 @@ twin::Lut2D compute_transmittance_table(const twin::AtmosphereParameters& atm, i
       glm::vec2 r_mu = twin::transmittance_r_mu_from_unit(atm, unit);
       const double r = r_mu.x, mu = r_mu.y;
       const double length = twin::distance_to_top(atm, static_cast<float>(r), static_cast<float>(mu));
-      const double dt = length / integration_steps;
+      // The density peaks at the ray's lowest point (perigee, t = -r mu when the
+      // ray first descends): integrate from there outwards on each side, with
+      // samples spaced quadratically so they crowd where the air is thickest.
+      const double perigee = std::clamp(-r * mu, 0.0, length);
       glm::dvec3 tau(0.0);
-      for (int i = 0; i < integration_steps; ++i) {
-        double t = (i + 0.5) * dt;
-        double ri = std::sqrt(r * r + t * t + 2.0 * r * mu * t);
-        double altitude = ri - bottom;
-        tau += glm::dvec3(twin::extinction_at(atm, static_cast<float>(altitude))) * dt;
-      }
+      auto integrate_from_perigee = [&](double end, int steps) {
+        const double span = end - perigee;
+        for (int i = 0; i < steps; ++i) {
+          const double u = (i + 0.5) / steps;
+          const double t = perigee + span * u * u;
+          const double weight = std::abs(2.0 * span * u / steps);
+          const double altitude = std::sqrt(r * r + t * t + 2.0 * r * mu * t) - bottom;
+          tau += glm::dvec3(twin::extinction_at(atm, static_cast<float>(altitude))) * weight;
+        }
+      };
+      const int before = perigee > 0.0 ? integration_steps / 2 : 0;
+      integrate_from_perigee(0.0, before);
+      integrate_from_perigee(length, integration_steps - before);
       table.texels[static_cast<size_t>(y) * width + x] = glm::vec3(glm::exp(-tau));
     }
   }

@@ -1,16 +1,16 @@
 // atmosphere_model.h — physical parameters of the air, from the host's
 // settings, and the transmittance lookup table the passes sample.
 //
-// Model (issue 2, single scattering, three channels at 680/550/440 nm):
-//  - Rayleigh: sea-level scattering (5.802, 13.558, 33.100) x 1e-6 /m, scale height 8 km.
-//  - Aerosols: extinction at 550 nm from the meteorological optical range
-//    (Koschmieder, 5 % contrast): beta_total = ln(20) / MOR = 2.996 / MOR; the
-//    aerosol part is beta_total minus Rayleigh at 550 nm (floored at 2e-7 /m),
-//    single-scattering albedo 0.9, Angstrom exponent 1.3, scale height from
-//    the settings, Cornette-Shanks phase with g = 0.8.
-//  - Ozone: absorption (0.650, 1.881, 0.085) x 1e-6 /m at the 25 km peak, tent profile of 15 km half width.
-//  - Sun: 128 000 lux at 1 AU outside the atmosphere (solar constant 1361 W/m^2
-//    times 94 lm/W), white in Rec.709/D65; angular radius 0.2666°.
+// Model: three wavelengths (680, 550, 440 nm) rendered as the R, G, B
+// channels (Bruneton 2017): the coefficients of each come from the spectral
+// definition of the air (plugin/core/spectral: first-principles Rayleigh with
+// the King factor, scale height 8 km; aerosols from the meteorological
+// visibility, ln(20)/MOR minus Rayleigh, Angstrom 1.3, albedo 0.9, Cornette-
+// Shanks g = 0.8; ozone 300 DU, Serdyuchenko 2014 cross-sections, tent profile
+// at 25 km), and the sun of each channel is the linear-sRGB illuminance of the
+// solar spectrum (5772 K black body, 1361 W/m^2) through the CIE 1931 observer
+// (about 125 klx, slightly warm of D65), so the direct sun's colour is exact.
+// Sun's angular radius 0.2666°.
 #pragma once
 
 #include "core/shader_twin.h"
@@ -24,14 +24,16 @@ struct AtmosphereSettings {
 };
 
 constexpr double kAtmosphereThicknessM = 100000.0;
-constexpr double kSunIlluminanceAt1AuLux = 128000.0;
+// Linear sRGB illuminance of the sun outside the atmosphere at 1 AU, lux per channel.
+glm::dvec3 sun_rgb_illuminance_at_1au_lux();
 constexpr double kSunAngularRadiusRad = 0.2666 * 3.14159265358979323846 / 180.0;
 
 twin::AtmosphereParameters make_atmosphere_parameters(const AtmosphereSettings& settings,
                                                       double bottom_radius_m, double sun_distance_au);
 
 // Transmittance table T(r, mu) to the top of the atmosphere, integrated in
-// double precision with `integration_steps` midpoint samples per texel.
+// double precision with `integration_steps` samples per texel, spaced
+// quadratically away from the ray's lowest point.
 constexpr int kTransmittanceWidth = 256;
 constexpr int kTransmittanceHeight = 64;
 twin::Lut2D compute_transmittance_table(const twin::AtmosphereParameters& atm, int width,
