@@ -8,6 +8,16 @@ namespace {
 
 const char* kVersion = "#version 330 core\n";
 
+// The info log of a shader or program (glGetShaderiv/InfoLog or the program twins).
+template <typename GetIv, typename GetLog>
+std::string info_log(GLuint object, GetIv get_iv, GetLog get_log) {
+  GLint length = 0;
+  get_iv(object, GL_INFO_LOG_LENGTH, &length);
+  std::vector<char> log(static_cast<size_t>(length > 0 ? length : 1), '\0');
+  get_log(object, static_cast<GLsizei>(log.size()), nullptr, log.data());
+  return log.data();
+}
+
 GLuint compile(GLenum stage, const char* source, const std::string& defines, const char* name,
                std::string* error) {
   const GLuint shader = glCreateShader(stage);
@@ -17,13 +27,9 @@ GLuint compile(GLenum stage, const char* source, const std::string& defines, con
   GLint ok = GL_FALSE;
   glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
   if (ok) return shader;
-  GLint length = 0;
-  glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-  std::vector<char> log(static_cast<size_t>(length > 0 ? length : 1), '\0');
-  glGetShaderInfoLog(shader, static_cast<GLsizei>(log.size()), nullptr, log.data());
   if (error) {
     *error = std::string(name) + (stage == GL_VERTEX_SHADER ? " vertex" : " fragment") +
-             " shader: " + log.data();
+             " shader: " + info_log(shader, glGetShaderiv, glGetShaderInfoLog);
   }
   glDeleteShader(shader);
   return 0;
@@ -49,11 +55,7 @@ GLuint build_program(const char* vertex_source, const char* fragment_source,
   GLint ok = GL_FALSE;
   glGetProgramiv(program, GL_LINK_STATUS, &ok);
   if (ok) return program;
-  GLint length = 0;
-  glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-  std::vector<char> log(static_cast<size_t>(length > 0 ? length : 1), '\0');
-  glGetProgramInfoLog(program, static_cast<GLsizei>(log.size()), nullptr, log.data());
-  if (error) *error = std::string(name) + " link: " + log.data();
+  if (error) *error = std::string(name) + " link: " + info_log(program, glGetProgramiv, glGetProgramInfoLog);
   glDeleteProgram(program);
   return 0;
 }
