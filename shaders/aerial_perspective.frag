@@ -1,6 +1,8 @@
 // Aerial perspective: host colour * transmittance + in-scattered light along
 // the view ray up to the host's geometry. Dual-source blending does the
 // multiply: blend(ONE, SRC1_COLOR) with out_transmittance as source 1.
+// The LUT and analytic tiers read the aerial-perspective volume (two texture
+// fetches); the march tier integrates per pixel.
 #include "atmosphere/pass_common.glsl"
 
 layout(location = 0, index = 0) out vec4 out_inscattered;
@@ -11,10 +13,26 @@ void main() {
                                  u_log_coefficient);
   if (p.w < 0.0f) discard;  // sky: nothing to haze
   float distance_m = length(p.xyz);
-  vec3 dir = normalize(u_enu_from_view * (p.xyz / max(distance_m, 1e-6f)));
-  ScatteringResult s = integrate_scattering(u_atmosphere, u_transmittance, u_transmittance_size, u_multiple_scattering,
-                                            u_multiple_scattering_size, u_eye_altitude_m, dir, u_sun_direction_enu,
-                                            distance_m, u_steps);
-  out_inscattered = vec4(encode_output(s.inscattered), 0.0f);
-  out_transmittance = vec4(s.transmittance, 1.0f);
+  vec3 inscattered;
+  vec3 transmittance;
+#if ATMO_METHOD == METHOD_MARCH
+  {
+    vec3 dir = normalize(u_enu_from_view * (p.xyz / max(distance_m, 1e-6f)));
+    ScatteringResult s = integrate_scattering(u_atmosphere, u_transmittance, u_transmittance_size,
+                                              u_multiple_scattering, u_multiple_scattering_size, u_eye_altitude_m, dir,
+                                              u_sun_direction_enu, distance_m, u_steps);
+    inscattered = s.inscattered;
+    transmittance = s.transmittance;
+  }
+#else
+  {
+    vec2 uv = (gl_FragCoord.xy - u_viewport.xy) / u_viewport.zw;
+    vec2 slice = aerial_slice_coordinate(distance_m, u_aerial_range_m, u_aerial_slices);
+    vec3 coord = vec3(uv, slice.x);
+    inscattered = texture(u_aerial_inscatter, coord).rgb * slice.y;
+    transmittance = mix(vec3(1.0f), texture(u_aerial_transmittance, coord).rgb, slice.y);
+  }
+#endif
+  out_inscattered = vec4(encode_output(inscattered), 0.0f);
+  out_transmittance = vec4(transmittance, 1.0f);
 }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "abi/objects.h"
+#include "abi/pass_inputs.h"
 #include "abi/scene_inputs.h"
 #include "abi/struct_io.h"
 #include "abi/validation.h"
@@ -146,6 +147,7 @@ void destroy_context(AtmoContext context) {
       HostServices().log(ATMO_LOG_HOST_MISBEHAVING, "destroy_context: not a live context (destroyed twice?)");
       return ATMO_ERROR_INVALID_HANDLE;
     }
+    atmo::abi::stop_table_builds(ctx);  // cancels a running table build and joins its thread
     for (AtmoView_T* v : ctx->views) destroy_view_object(v);
     ctx->views.clear();
     if (ctx->gl_alive) {
@@ -265,6 +267,7 @@ AtmoResult set_atmosphere(AtmoContext context, const AtmoAtmosphereState* state)
     atmo::abi::Verdict v = atmo::abi::validate_atmosphere(s, &settings);
     if (!v.ok()) return fail(ctx, v.code, "set_atmosphere", v.message);
     ctx->atmosphere = settings;
+    atmo::abi::air_changed(ctx);  // starts building the new air's tables now (worker thread)
     return ATMO_SUCCESS;
   });
 }
@@ -351,7 +354,7 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
       ctx->renderer.upload_tables(ctx->lut, ctx->multiple_scattering);
       ctx->uploaded_lut_version = ctx->lut_version;
     }
-    atmo::gl::PassInputs inputs = atmo::abi::make_pass_inputs(scene, *view);
+    atmo::gl::PassInputs inputs = atmo::abi::make_pass_inputs(scene, *view, ctx->lut, ctx->multiple_scattering);
     std::string error;
     bool ok = pass.pass == ATMO_PASS_SKY ? ctx->renderer.draw_sky(inputs, &error)
                                          : ctx->renderer.draw_aerial_perspective(inputs, &error);

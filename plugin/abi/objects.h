@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "abi/host_services.h"
+#include "abi/table_builder.h"
 #include "atmo/atmo.h"
 #include "core/atmosphere_model.h"
 #include "core/eye_frame.h"
@@ -29,19 +30,20 @@ struct AtmoContext_T {
   double dut1_s = 0.0;
   uint64_t frame_number = 0;
 
-  // The tables for the last (air, ground albedo, sphere radius) they were built for.
-  struct LutKey {
-    double visibility_m = -1, aerosol_scale_height_m = -1, ground_albedo = -1, radius_m = -1;
-    bool operator==(const LutKey& o) const {
-      return visibility_m == o.visibility_m && aerosol_scale_height_m == o.aerosol_scale_height_m &&
-             ground_albedo == o.ground_albedo && radius_m == o.radius_m;
-    }
-  };
+  // The CPU lookup tables the passes upload and get_lighting reads, and what
+  // (air, ground albedo, sphere radius) they were built for. The first use
+  // builds them on the calling thread; later changes of the key are built by
+  // table_worker while frames keep these, and the calling thread swaps the new
+  // ones in (abi/scene_inputs.cpp): only the host's thread reads or writes
+  // these members, so no lock.
+  using LutKey = atmo::abi::TableKey;
   LutKey lut_key;
   atmo::twin::Lut2D lut;                  // transmittance
   atmo::twin::Lut2D multiple_scattering;  // Psi_ms, built from lut
-  uint64_t lut_version = 0;          // bumps when the CPU table changes
+  uint64_t lut_version = 0;          // bumps when the CPU tables change (0: none yet)
   uint64_t uploaded_lut_version = 0; // what the GL texture holds (0: nothing)
+  LutKey lut_wanted;                 // the key asked for last (the current air at the last view's sphere)
+  atmo::abi::TableWorker table_worker;  // joined by destroy_context (and its destructor)
 
   atmo::gl::Renderer renderer;
   bool gl_alive = false;

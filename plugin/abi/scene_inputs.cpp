@@ -1,38 +1,103 @@
 #include "abi/scene_inputs.h"
 
+#include <cstdio>
+#include <string>
+#include <utility>
+
 #include "abi/validation.h"
 
 namespace atmo::abi {
 
+namespace {
+
+// The worker's progress lines, logged on the host's thread (the log service may
+// only be called on threads the host calls the plugin on).
+void flush_table_log(AtmoContext_T* c) {
+  for (TableLogLine& line : c->table_worker.take_messages()) c->services.log(line.severity, line.text);
+}
+
+void install(AtmoContext_T* c, AtmosphereTables&& tables) {
+  c->lut = std::move(tables.transmittance);
+  c->multiple_scattering = std::move(tables.multiple_scattering);
+  c->lut_key = tables.key;
+  ++c->lut_version;
+}
+
+// Brings the context's tables towards `wanted`, never waiting after the first build.
+void update_tables(AtmoContext_T* c, const TableKey& wanted) {
+  c->lut_wanted = wanted;
+  flush_table_log(c);
+  if (c->lut_version == 0) {
+    // First use: there is nothing to draw with, so build here.
+    AtmosphereTables tables;
+    build_tables(
+        wanted, nullptr, [c](TableLogLine line) { c->services.log(line.severity, line.text); }, nullptr, &tables,
+        "on the calling thread, before the first frame");
+    install(c, std::move(tables));
+    return;
+  }
+  AtmosphereTables done;
+  if (c->table_worker.take_finished(&done) && wanted != c->lut_key && done.key != c->lut_key) {
+    // Tables for an air asked for since the ones in use: newer, even when the air changed again meanwhile.
+    char ms[32];
+    std::snprintf(ms, sizeof(ms), "%.0f", done.build_ms);
+    c->services.log(ATMO_LOG_INFO, "atmo: atmosphere tables (" + describe(done.key) + ") in use from this call, built in " +
+                                       ms + " ms on the worker thread" +
+                                       (done.key == wanted ? "" : "; the newest air is built next"));
+    install(c, std::move(done));
+  }
+  if (wanted == c->lut_key) {
+    c->table_worker.cancel_all();  // back to the air in use: drop what was asked for since
+  } else {
+    c->table_worker.request(wanted);
+  }
+}
+
+}  // namespace
+
 core::Scene prepare_scene(AtmoContext_T* c, const AtmoView_T& view) {
   core::Scene s = core::make_scene(c->atmosphere, c->utc_posix_s, c->dut1_s, view.eye);
-  AtmoContext_T::LutKey key{c->atmosphere.visibility_m, c->atmosphere.aerosol_scale_height_m,
-                            c->atmosphere.ground_albedo, s.sphere_radius_m};
-  if (!(key == c->lut_key)) {
-    c->lut = core::compute_transmittance_table(s.atmosphere, core::kTransmittanceWidth, core::kTransmittanceHeight);
-    c->multiple_scattering = core::compute_multiple_scattering_table(s.atmosphere, c->lut);
-    c->lut_key = key;
-    ++c->lut_version;
+  update_tables(c, table_key(c->atmosphere, s.sphere_radius_m));
+  if (c->lut_key != c->lut_wanted) {
+    // The new tables are being built: draw and light with the air (and the
+    // model sphere) the tables in use were made for, so everything agrees with them.
+    s = core::make_scene(c->lut_key.settings(), c->utc_posix_s, c->dut1_s, view.eye);
+    if (s.sphere_radius_m != c->lut_key.radius_m) {
+      s.sphere_radius_m = c->lut_key.radius_m;
+      s.atmosphere.bottom_radius_m = static_cast<float>(c->lut_key.radius_m);
+      s.atmosphere.top_radius_m = static_cast<float>(c->lut_key.radius_m + core::kAtmosphereThicknessM);
+    }
   }
   return s;
 }
 
-gl::PassInputs make_pass_inputs(const core::Scene& scene, const AtmoView_T& view) {
-  gl::PassInputs in;
-  const AtmoViewState& v = view.state;
-  in.atmosphere = scene.atmosphere;
-  in.sun_direction_enu = glm::vec3(scene.sun_direction_enu);
-  in.eye_altitude_m = static_cast<float>(scene.eye_altitude_m);
-  in.enu_from_view = glm::mat3(view.eye.enu_from_view);
-  in.view_from_clip = glm::mat4(view.eye.view_from_clip);
-  for (int i = 0; i < 4; ++i) in.viewport[i] = v.viewport[i];
-  in.depth_texture = v.depth_texture;
-  in.depth_convention = static_cast<int>(v.depth_convention);
-  in.log_far_m = static_cast<float>(v.far_plane_m);
-  in.log_coefficient = static_cast<float>(v.log_depth_coefficient != 0.0 ? v.log_depth_coefficient : 1.0);
-  in.exposure = static_cast<float>(v.exposure_scale != 0.0 ? v.exposure_scale : kDefaultExposureScale);
-  in.output_encoding = static_cast<int>(v.output_encoding);
-  return in;
+void air_changed(AtmoContext_T* c) noexcept {
+  if (c->lut_version == 0) return;  // the first frame builds them
+  try {
+    update_tables(c, table_key(c->atmosphere, c->lut_wanted.radius_m));
+  } catch (const std::exception& e) {
+    // E.g. no thread could be started: the next frame asks again.
+    c->services.log(ATMO_LOG_WARNING, std::string("atmo: set_atmosphere: the table build could not start yet: ") + e.what());
+  } catch (...) {
+  }
+}
+
+void wait_for_tables(AtmoContext_T* c, const AtmoView_T* view) {
+  if (view && view->have_state && c->have_frame) prepare_scene(c, *view);
+  c->table_worker.wait_idle();
+  if (c->lut_version != 0) {
+    update_tables(c, c->lut_wanted);
+  } else {
+    flush_table_log(c);
+  }
+}
+
+void stop_table_builds(AtmoContext_T* c) noexcept {
+  c->table_worker.stop();
+  try {
+    flush_table_log(c);
+  } catch (...) {
+  }
 }
 
 }  // namespace atmo::abi

@@ -88,6 +88,7 @@ Verdict validate_view(const AtmoViewState& s, core::EyeFrame* out) {
   if (!enum_value(&v, "AtmoViewState.world_frame", s.world_frame, 2)) return v;
   if (!enum_value(&v, "AtmoViewState.depth_convention", s.depth_convention, 3)) return v;
   if (!enum_value(&v, "AtmoViewState.output_encoding", s.output_encoding, 2)) return v;
+  if (!enum_value(&v, "AtmoViewState.sky_method", s.sky_method, ATMO_SKY_METHOD_COUNT)) return v;
 
   core::CameraInput cam;
   cam.eye_is_geodetic = s.eye_kind == ATMO_POSITION_GEODETIC;

@@ -47,13 +47,15 @@ glm::dvec3 sun_rgb_illuminance_at_1au_lux() {
 }
 
 twin::Lut2D compute_transmittance_table(const twin::AtmosphereParameters& atm, int width,
-                                                     int height, int integration_steps) {
+                                                     int height, int integration_steps,
+                                                     const TableBuildControl& control) {
   twin::Lut2D table;
   table.width = width;
   table.height = height;
   table.texels.resize(static_cast<size_t>(width) * height);
   const double bottom = atm.bottom_radius_m;
   for (int y = 0; y < height; ++y) {
+    if (control.stopped()) return {};
     for (int x = 0; x < width; ++x) {
       // Texel centre -> unit coordinates (the lookup maps x_mu = 0 and 1 to the
       // first and last texel centres) -> (r, mu).
@@ -81,17 +83,19 @@ twin::Lut2D compute_transmittance_table(const twin::AtmosphereParameters& atm, i
       integrate_from_perigee(length, integration_steps - before);
       table.texels[static_cast<size_t>(y) * width + x] = glm::vec3(glm::exp(-tau));
     }
+    control.report((y + 1.0) / height);
   }
   return table;
 }
 
 twin::Lut2D compute_multiple_scattering_table(const twin::AtmosphereParameters& atm, const twin::Lut2D& transmittance,
-                                              int size, int directions, int steps) {
+                                              int size, int directions, int steps, const TableBuildControl& control) {
   twin::Lut2D table;
   table.width = table.height = size;
   table.texels.resize(static_cast<size_t>(size) * size);
   const glm::vec2 t_size(transmittance.width, transmittance.height);
   for (int y = 0; y < size; ++y) {
+    if (control.stopped()) return {};
     for (int x = 0; x < size; ++x) {
       // Texel centre -> (mu_s, r): the inverse of multiple_scattering_uv.
       float mu_s = x / (size - 1.0f) * 2.0f - 1.0f;
@@ -100,6 +104,7 @@ twin::Lut2D compute_multiple_scattering_table(const twin::AtmosphereParameters& 
       table.texels[static_cast<size_t>(y) * size + x] =
           twin::multiple_scattering_texel(atm, transmittance, t_size, r, mu_s, directions, steps);
     }
+    control.report((y + 1.0) / size);
   }
   return table;
 }

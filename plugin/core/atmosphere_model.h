@@ -13,6 +13,9 @@
 // Sun's angular radius 0.2666°.
 #pragma once
 
+#include <atomic>
+#include <functional>
+
 #include "core/shader_twin.h"
 
 namespace atmo::core {
@@ -31,13 +34,29 @@ constexpr double kSunAngularRadiusRad = 0.2666 * 3.14159265358979323846 / 180.0;
 twin::AtmosphereParameters make_atmosphere_parameters(const AtmosphereSettings& settings,
                                                       double bottom_radius_m, double sun_distance_au);
 
+// Progress and cancellation of a table build, both optional. The builders
+// call `progress` on the calling thread after each row with the fraction of
+// rows done, in (0, 1] (the last call is 1), and check `*stop` before each row:
+// once it is true they return an empty table (width = height = 0) at once.
+// No threads, no logging here: the caller decides what to do with both.
+struct TableBuildControl {
+  std::function<void(double fraction)> progress;
+  const std::atomic<bool>* stop = nullptr;
+
+  bool stopped() const { return stop && stop->load(std::memory_order_relaxed); }
+  void report(double fraction) const {
+    if (progress) progress(fraction);
+  }
+};
+
 // Transmittance table T(r, mu) to the top of the atmosphere, integrated in
 // double precision with `integration_steps` samples per texel, spaced
 // quadratically away from the ray's lowest point.
 constexpr int kTransmittanceWidth = 256;
 constexpr int kTransmittanceHeight = 64;
 twin::Lut2D compute_transmittance_table(const twin::AtmosphereParameters& atm, int width,
-                                                     int height, int integration_steps = 256);
+                                                     int height, int integration_steps = 256,
+                                                     const TableBuildControl& control = {});
 
 // Multiple-scattering table Psi_ms(mu_s, altitude) (Hillaire 2020), per unit
 // sun illuminance, from the transmittance table: `directions` rays of `steps`
@@ -45,6 +64,7 @@ twin::Lut2D compute_transmittance_table(const twin::AtmosphereParameters& atm, i
 constexpr int kMultipleScatteringSize = 32;
 twin::Lut2D compute_multiple_scattering_table(const twin::AtmosphereParameters& atm,
                                               const twin::Lut2D& transmittance, int size = kMultipleScatteringSize,
-                                              int directions = 64, int steps = 20);
+                                              int directions = 64, int steps = 20,
+                                              const TableBuildControl& control = {});
 
 }  // namespace atmo::core

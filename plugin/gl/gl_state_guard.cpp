@@ -39,12 +39,14 @@ GlStateGuard::GlStateGuard(int units) : units_(units < kMaxUnits ? units : kMaxU
   for (int u = 0; u < units_; ++u) {
     glActiveTexture(GL_TEXTURE0 + u);
     textures_[u] = get_int(GL_TEXTURE_BINDING_2D);
+    textures_3d_[u] = get_int(GL_TEXTURE_BINDING_3D);
     samplers_[u] = get_int(GL_SAMPLER_BINDING);
   }
   glActiveTexture(static_cast<GLenum>(active_texture_));
   glGetIntegerv(GL_VIEWPORT, viewport_);
   depth_test_ = glIsEnabled(GL_DEPTH_TEST);
   blend0_ = glIsEnabledi(GL_BLEND, 0);
+  blend1_ = glIsEnabledi(GL_BLEND, 1);
   cull_ = glIsEnabled(GL_CULL_FACE);
   stencil_ = glIsEnabled(GL_STENCIL_TEST);
   scissor_ = glIsEnabled(GL_SCISSOR_TEST);
@@ -52,6 +54,7 @@ GlStateGuard::GlStateGuard(int units) : units_(units < kMaxUnits ? units : kMaxU
   for (int i = 0; i < 8; ++i) clip_distance_[i] = glIsEnabled(GL_CLIP_DISTANCE0 + i);
   glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask_);
   glGetBooleani_v(GL_COLOR_WRITEMASK, 0, color_mask_);
+  glGetBooleani_v(GL_COLOR_WRITEMASK, 1, color_mask1_);
   const GLenum blend_names[6] = {GL_BLEND_SRC_RGB, GL_BLEND_DST_RGB, GL_BLEND_SRC_ALPHA,
                                  GL_BLEND_DST_ALPHA, GL_BLEND_EQUATION_RGB, GL_BLEND_EQUATION_ALPHA};
   GLint* blend_values[6] = {&blend_src_rgb_, &blend_dst_rgb_, &blend_src_alpha_,
@@ -97,6 +100,7 @@ void GlStateGuard::use_single_draw_buffer() {
 }
 
 GlStateGuard::~GlStateGuard() {
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(draw_fbo_));  // first: draw buffers are its state
   if (draw_buffers_changed_) {
     GLenum buffers[kMaxDrawBuffers];
     for (int i = 0; i < draw_buffer_count_; ++i) buffers[i] = static_cast<GLenum>(draw_buffers_[i]);
@@ -113,12 +117,14 @@ GlStateGuard::~GlStateGuard() {
   for (int u = 0; u < units_; ++u) {
     glActiveTexture(GL_TEXTURE0 + u);
     glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(textures_[u]));
+    glBindTexture(GL_TEXTURE_3D, static_cast<GLuint>(textures_3d_[u]));
     glBindSampler(static_cast<GLuint>(u), static_cast<GLuint>(samplers_[u]));
   }
   glActiveTexture(static_cast<GLenum>(active_texture_));
   glViewport(viewport_[0], viewport_[1], viewport_[2], viewport_[3]);
   set_enabled(GL_DEPTH_TEST, depth_test_);
   if (blend0_) glEnablei(GL_BLEND, 0); else glDisablei(GL_BLEND, 0);
+  if (blend1_) glEnablei(GL_BLEND, 1); else glDisablei(GL_BLEND, 1);
   set_enabled(GL_CULL_FACE, cull_);
   set_enabled(GL_STENCIL_TEST, stencil_);
   set_enabled(GL_SCISSOR_TEST, scissor_);
@@ -126,6 +132,7 @@ GlStateGuard::~GlStateGuard() {
   for (int i = 0; i < 8; ++i) set_enabled(GL_CLIP_DISTANCE0 + i, clip_distance_[i]);
   glDepthMask(depth_mask_);
   glColorMaski(0, color_mask_[0], color_mask_[1], color_mask_[2], color_mask_[3]);
+  glColorMaski(1, color_mask1_[0], color_mask1_[1], color_mask1_[2], color_mask1_[3]);
   set_blend_of_buffer0(static_cast<GLenum>(blend_src_rgb_), static_cast<GLenum>(blend_dst_rgb_),
                        static_cast<GLenum>(blend_src_alpha_), static_cast<GLenum>(blend_dst_alpha_),
                        static_cast<GLenum>(blend_eq_rgb_), static_cast<GLenum>(blend_eq_alpha_));

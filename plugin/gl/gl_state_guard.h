@@ -22,16 +22,16 @@ class GlStateGuard {
   GlStateGuard& operator=(const GlStateGuard&) = delete;
 
  private:
-  static constexpr int kMaxUnits = 4;
+  static constexpr int kMaxUnits = 6;
   static constexpr int kMaxDrawBuffers = 8;
   int units_;
   GLint program_, vao_, array_buffer_, unpack_buffer_, active_texture_;
-  GLint textures_[kMaxUnits], samplers_[kMaxUnits];
+  GLint textures_[kMaxUnits], textures_3d_[kMaxUnits], samplers_[kMaxUnits];
   GLint unpack_alignment_, unpack_row_length_;
   GLint viewport_[4];
-  GLboolean depth_test_, blend0_, cull_, stencil_, scissor_, rasterizer_discard_;
+  GLboolean depth_test_, blend0_, blend1_, cull_, stencil_, scissor_, rasterizer_discard_;
   GLboolean clip_distance_[8];
-  GLboolean depth_mask_, color_mask_[4];
+  GLboolean depth_mask_, color_mask_[4], color_mask1_[4];
   GLint blend_src_rgb_, blend_dst_rgb_, blend_src_alpha_, blend_dst_alpha_, blend_eq_rgb_, blend_eq_alpha_;
   GLint polygon_mode_[2];
   GLint draw_fbo_;

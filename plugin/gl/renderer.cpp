@@ -2,18 +2,22 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include <cstdio>
+#include <cstring>
+
 #include "gl/gl_state_guard.h"
 #include "gl/shader_program.h"
 
 namespace atmo::gl {
 
 namespace {
-constexpr int kSkySteps = 32;
-constexpr int kAerialSteps = 16;
 constexpr GLuint kTransmittanceUnit = 0;
 constexpr GLuint kDepthUnit = 1;
 constexpr GLuint kMultipleScatteringUnit = 2;
-constexpr int kUnitsUsed = 3;
+constexpr GLuint kSkyViewUnit = 3;
+constexpr GLuint kAerialInscatterUnit = 4;
+constexpr GLuint kAerialTransmittanceUnit = 5;
+constexpr int kUnitsUsed = 6;
 
 std::string gl_error_string(GLenum e) {
   switch (e) {
@@ -24,6 +28,21 @@ std::string gl_error_string(GLenum e) {
     case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
     default: return "GL error " + std::to_string(e);
   }
+}
+
+bool check_gl(const char* what, std::string* error) {
+  GLenum e = glGetError();
+  if (e == GL_NO_ERROR) return true;
+  if (error) *error = gl_error_string(e) + " while " + what;
+  while (glGetError() != GL_NO_ERROR) {}
+  return false;
+}
+
+// Appends the raw bytes of `v` to a cache key.
+template <typename T>
+void append_key(std::vector<unsigned char>* key, const T& v) {
+  const auto* b = reinterpret_cast<const unsigned char*>(&v);
+  key->insert(key->end(), b, b + sizeof(T));
 }
 }  // namespace
 
@@ -42,33 +61,46 @@ bool Renderer::init(ProcLoader loader, void* user, std::string* error) {
   while (glGetError() != GL_NO_ERROR) {}  // the host's errors are not ours
 
   GlStateGuard guard(kUnitsUsed);
-  if (!build(&sky_, "sky.frag", error) || !build(&aerial_, "aerial_perspective.frag", error)) {
+  bool ok = build(&sky_view_builder_, "sky_view_lut.frag", SkyMethod::kLut, error) &&
+            build(&aerial_volume_builder_, "aerial_volume_lut.frag", SkyMethod::kLut, error);
+  for (int m = 0; ok && m < kMethods; ++m) {
+    ok = build(&sky_[m], "sky.frag", static_cast<SkyMethod>(m), error) &&
+         (m == static_cast<int>(SkyMethod::kAnalytic) ||
+          build(&aerial_[m], "aerial_perspective.frag", static_cast<SkyMethod>(m), error));
+  }
+  if (!ok) {
     destroy();
     return false;
   }
   glGenVertexArrays(1, &vao_);
+  glGenFramebuffers(1, &fbo_);
   glGenSamplers(1, &linear_sampler_);
   glSamplerParameteri(linear_sampler_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glSamplerParameteri(linear_sampler_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glSamplerParameteri(linear_sampler_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glSamplerParameteri(linear_sampler_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glSamplerParameteri(linear_sampler_, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
   glGenSamplers(1, &nearest_sampler_);
   glSamplerParameteri(nearest_sampler_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glSamplerParameteri(nearest_sampler_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glSamplerParameteri(nearest_sampler_, GL_TEXTURE_COMPARE_MODE, GL_NONE);
   glGenTextures(1, &transmittance_texture_);
   glGenTextures(1, &multiple_scattering_texture_);
-  GLenum e = glGetError();
-  if (e != GL_NO_ERROR) {
-    if (error) *error = "gl_init: " + gl_error_string(e) + " while creating objects";
+  glGenTextures(1, &sky_view_texture_);
+  glGenTextures(1, &aerial_inscatter_texture_);
+  glGenTextures(1, &aerial_transmittance_texture_);
+  std::string gl_error;
+  if (!check_gl("creating objects", &gl_error)) {
+    if (error) *error = "gl_init: " + gl_error;
     destroy();
     return false;
   }
   return true;
 }
 
-bool Renderer::build(Program* p, const char* fragment_path, std::string* error) {
-  p->program = build_program("fullscreen.vert", fragment_path, error);
+bool Renderer::build(Program* p, const char* fragment_path, SkyMethod method, std::string* error) {
+  const std::string defines = "#define ATMO_METHOD " + std::to_string(static_cast<int>(method)) + "\n";
+  p->program = build_program("fullscreen.vert", fragment_path, defines, error);
   if (!p->program) return false;
   auto loc = [&](const char* name) { return glGetUniformLocation(p->program, name); };
   p->bottom_radius = loc("u_atmosphere.bottom_radius_m");
@@ -102,24 +134,55 @@ bool Renderer::build(Program* p, const char* fragment_path, std::string* error) 
   p->exposure = loc("u_exposure");
   p->output_encoding = loc("u_output_encoding");
   p->steps = loc("u_steps");
+  p->sky_view = loc("u_sky_view");
+  p->sky_view_size = loc("u_sky_view_size");
+  p->aerial_inscatter = loc("u_aerial_inscatter");
+  p->aerial_transmittance = loc("u_aerial_transmittance");
+  p->aerial_range = loc("u_aerial_range_m");
+  p->aerial_slices = loc("u_aerial_slices");
+  p->aerial_grid = loc("u_aerial_grid");
+  p->slice = loc("u_slice");
+  p->sin_sun_elevation = loc("u_sin_sun_elevation");
+  p->analytic_weight = loc("u_analytic_weight");
+  const char* preetham_names[6] = {"u_preetham.A", "u_preetham.B", "u_preetham.C",
+                                   "u_preetham.D", "u_preetham.E", "u_preetham.zenith_Yxy"};
+  for (int i = 0; i < 6; ++i) p->preetham[i] = loc(preetham_names[i]);
   return true;
 }
 
 void Renderer::destroy() {
-  if (sky_.program) glDeleteProgram(sky_.program);
-  if (aerial_.program) glDeleteProgram(aerial_.program);
+  for (int m = 0; m < kMethods; ++m) {
+    if (sky_[m].program) glDeleteProgram(sky_[m].program);
+    if (aerial_[m].program) glDeleteProgram(aerial_[m].program);
+  }
+  for (Program* p : {&sky_view_builder_, &aerial_volume_builder_})
+    if (p->program) glDeleteProgram(p->program);
   if (vao_) glDeleteVertexArrays(1, &vao_);
-  if (transmittance_texture_) glDeleteTextures(1, &transmittance_texture_);
-  if (multiple_scattering_texture_) glDeleteTextures(1, &multiple_scattering_texture_);
+  if (fbo_) glDeleteFramebuffers(1, &fbo_);
+  for (GLuint* t : {&transmittance_texture_, &multiple_scattering_texture_, &sky_view_texture_,
+                    &aerial_inscatter_texture_, &aerial_transmittance_texture_})
+    if (*t) glDeleteTextures(1, t);
   if (linear_sampler_) glDeleteSamplers(1, &linear_sampler_);
   if (nearest_sampler_) glDeleteSamplers(1, &nearest_sampler_);
   forget();
 }
 
 void Renderer::forget() {
-  sky_ = Program{};
-  aerial_ = Program{};
-  vao_ = transmittance_texture_ = multiple_scattering_texture_ = linear_sampler_ = nearest_sampler_ = 0;
+  for (int m = 0; m < kMethods; ++m) sky_[m] = aerial_[m] = Program{};
+  sky_view_builder_ = aerial_volume_builder_ = Program{};
+  vao_ = fbo_ = transmittance_texture_ = multiple_scattering_texture_ = 0;
+  sky_view_texture_ = aerial_inscatter_texture_ = aerial_transmittance_texture_ = 0;
+  linear_sampler_ = nearest_sampler_ = 0;
+  derived_allocated_ = false;
+  sky_view_key_.clear();
+  aerial_key_.clear();
+}
+
+void Renderer::set_lut_settings(const LutSettings& s) {
+  settings_ = s;
+  derived_allocated_ = false;
+  sky_view_key_.clear();
+  aerial_key_.clear();
 }
 
 void Renderer::upload_tables(const twin::Lut2D& transmittance, const twin::Lut2D& multiple_scattering) {
@@ -133,6 +196,26 @@ void Renderer::upload_tables(const twin::Lut2D& transmittance, const twin::Lut2D
   }
   transmittance_size_ = glm::vec2(transmittance.width, transmittance.height);
   multiple_scattering_size_ = glm::vec2(multiple_scattering.width, multiple_scattering.height);
+  ++tables_version_;
+}
+
+void Renderer::allocate_derived_tables() {
+  // Called inside a GlStateGuard (texture unit 0 is restored by it).
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, sky_view_texture_);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, settings_.sky_view_width, settings_.sky_view_height, 0, GL_RGBA,
+               GL_FLOAT, nullptr);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+  GLint previous_3d = 0;
+  glGetIntegerv(GL_TEXTURE_BINDING_3D, &previous_3d);
+  for (GLuint t : {aerial_inscatter_texture_, aerial_transmittance_texture_}) {
+    glBindTexture(GL_TEXTURE_3D, t);
+    glTexImage3D(GL_TEXTURE_3D, 0, GL_RGBA32F, settings_.aerial_width, settings_.aerial_height,
+                 settings_.aerial_slices, 0, GL_RGBA, GL_FLOAT, nullptr);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAX_LEVEL, 0);
+  }
+  glBindTexture(GL_TEXTURE_3D, static_cast<GLuint>(previous_3d));
+  derived_allocated_ = true;
 }
 
 void Renderer::set_uniforms(const Program& p, const PassInputs& in, int steps) const {
@@ -169,24 +252,109 @@ void Renderer::set_uniforms(const Program& p, const PassInputs& in, int steps) c
   glUniform1f(p.exposure, in.exposure);
   glUniform1i(p.output_encoding, in.output_encoding);
   glUniform1i(p.steps, steps);
+  glUniform1i(p.sky_view, static_cast<GLint>(kSkyViewUnit));
+  glUniform2f(p.sky_view_size, static_cast<float>(settings_.sky_view_width),
+              static_cast<float>(settings_.sky_view_height));
+  glUniform1i(p.aerial_inscatter, static_cast<GLint>(kAerialInscatterUnit));
+  glUniform1i(p.aerial_transmittance, static_cast<GLint>(kAerialTransmittanceUnit));
+  glUniform1f(p.aerial_range, in.aerial_range_m);
+  glUniform1i(p.aerial_slices, settings_.aerial_slices);
+  glUniform2f(p.aerial_grid, static_cast<float>(settings_.aerial_width), static_cast<float>(settings_.aerial_height));
+  glUniform1f(p.sin_sun_elevation, in.sun_direction_enu.z);
+  glUniform1f(p.analytic_weight, in.analytic_weight);
+  const glm::vec3* c[6] = {&in.preetham.A, &in.preetham.B, &in.preetham.C,
+                           &in.preetham.D, &in.preetham.E, &in.preetham.zenith_Yxy};
+  for (int i = 0; i < 6; ++i) glUniform3fv(p.preetham[i], 1, glm::value_ptr(*c[i]));
+}
+
+void Renderer::bind_textures(GLuint depth_texture) const {
+  auto bind = [](GLuint unit, GLenum target, GLuint texture, GLuint sampler) {
+    glActiveTexture(GL_TEXTURE0 + unit);
+    glBindTexture(target, texture);
+    glBindSampler(unit, sampler);
+  };
+  bind(kTransmittanceUnit, GL_TEXTURE_2D, transmittance_texture_, linear_sampler_);
+  bind(kDepthUnit, GL_TEXTURE_2D, depth_texture, nearest_sampler_);
+  bind(kMultipleScatteringUnit, GL_TEXTURE_2D, multiple_scattering_texture_, linear_sampler_);
+  bind(kSkyViewUnit, GL_TEXTURE_2D, sky_view_texture_, linear_sampler_);
+  bind(kAerialInscatterUnit, GL_TEXTURE_3D, aerial_inscatter_texture_, linear_sampler_);
+  bind(kAerialTransmittanceUnit, GL_TEXTURE_3D, aerial_transmittance_texture_, linear_sampler_);
+}
+
+bool Renderer::ensure_sky_view(const PassInputs& in, std::string* error) {
+  std::vector<unsigned char> key;
+  append_key(&key, tables_version_);
+  append_key(&key, in.atmosphere);
+  append_key(&key, in.eye_altitude_m);
+  append_key(&key, in.sun_direction_enu.z);
+  if (derived_allocated_ && key == sky_view_key_) return true;
+  {
+    GlStateGuard guard(kUnitsUsed);
+    if (!derived_allocated_) allocate_derived_tables();
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
+    glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, sky_view_texture_, 0);
+    glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, 0, 0);
+    const GLenum buffers[1] = {GL_COLOR_ATTACHMENT0};
+    glDrawBuffers(1, buffers);
+    glDisablei(GL_BLEND, 0);
+    glViewport(0, 0, settings_.sky_view_width, settings_.sky_view_height);
+    glUseProgram(sky_view_builder_.program);
+    set_uniforms(sky_view_builder_, in, settings_.sky_view_steps);
+    bind_textures(0);
+    glBindVertexArray(vao_);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+  }
+  if (!check_gl("building the sky-view table", error)) return false;
+  sky_view_key_ = std::move(key);
+  ++counters_.sky_view_builds;
+  return true;
+}
+
+bool Renderer::ensure_aerial_volume(const PassInputs& in, std::string* error) {
+  std::vector<unsigned char> key;
+  append_key(&key, tables_version_);
+  append_key(&key, in.atmosphere);
+  append_key(&key, in.eye_altitude_m);
+  append_key(&key, in.sun_direction_enu);
+  append_key(&key, in.enu_from_view);
+  append_key(&key, in.view_from_clip);
+  append_key(&key, in.depth_convention);
+  append_key(&key, in.aerial_range_m);
+  if (derived_allocated_ && key == aerial_key_) return true;
+  {
+    GlStateGuard guard(kUnitsUsed);
+    if (!derived_allocated_) allocate_derived_tables();
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
+    const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, buffers);
+    glDisablei(GL_BLEND, 0);  // the guard restores both buffers' blend enables
+    glDisablei(GL_BLEND, 1);
+    glColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glViewport(0, 0, settings_.aerial_width, settings_.aerial_height);
+    glUseProgram(aerial_volume_builder_.program);
+    set_uniforms(aerial_volume_builder_, in, settings_.aerial_steps);
+    bind_textures(0);
+    glBindVertexArray(vao_);
+    for (int k = 0; k < settings_.aerial_slices; ++k) {
+      glFramebufferTextureLayer(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, aerial_inscatter_texture_, 0, k);
+      glFramebufferTextureLayer(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, aerial_transmittance_texture_, 0, k);
+      glUniform1i(aerial_volume_builder_.slice, k);
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+  }
+  if (!check_gl("building the aerial-perspective volume", error)) return false;
+  aerial_key_ = std::move(key);
+  ++counters_.aerial_volume_builds;
+  return true;
 }
 
 bool Renderer::draw(const Program& p, const PassInputs& in, int steps, bool dual_source_blend, std::string* error) {
-  while (glGetError() != GL_NO_ERROR) {}  // errors the host left are not ours
   {
     GlStateGuard guard(kUnitsUsed);
     guard.use_single_draw_buffer();
     glUseProgram(p.program);
     set_uniforms(p, in, steps);
-    glActiveTexture(GL_TEXTURE0 + kTransmittanceUnit);
-    glBindTexture(GL_TEXTURE_2D, transmittance_texture_);
-    glBindSampler(kTransmittanceUnit, linear_sampler_);
-    glActiveTexture(GL_TEXTURE0 + kDepthUnit);
-    glBindTexture(GL_TEXTURE_2D, in.depth_texture);
-    glBindSampler(kDepthUnit, nearest_sampler_);
-    glActiveTexture(GL_TEXTURE0 + kMultipleScatteringUnit);
-    glBindTexture(GL_TEXTURE_2D, multiple_scattering_texture_);
-    glBindSampler(kMultipleScatteringUnit, linear_sampler_);
+    bind_textures(in.depth_texture);
     glViewport(in.viewport[0], in.viewport[1], in.viewport[2], in.viewport[3]);
     if (dual_source_blend) {
       glEnablei(GL_BLEND, 0);
@@ -197,20 +365,22 @@ bool Renderer::draw(const Program& p, const PassInputs& in, int steps, bool dual
     glBindVertexArray(vao_);
     glDrawArrays(GL_TRIANGLES, 0, 3);
   }
-  GLenum e = glGetError();
-  if (e != GL_NO_ERROR) {
-    if (error) *error = gl_error_string(e) + " while drawing";
-    return false;
-  }
-  return true;
+  return check_gl("drawing", error);
 }
 
 bool Renderer::draw_sky(const PassInputs& in, std::string* error) {
-  return draw(sky_, in, kSkySteps, false, error);
+  while (glGetError() != GL_NO_ERROR) {}  // errors the host left are not ours
+  const bool needs_sky_view = in.method == SkyMethod::kLut ||
+                              (in.method == SkyMethod::kAnalytic && in.analytic_weight < 1.0f);
+  if (needs_sky_view && !ensure_sky_view(in, error)) return false;
+  return draw(sky_[static_cast<int>(in.method)], in, settings_.march_sky_steps, false, error);
 }
 
 bool Renderer::draw_aerial_perspective(const PassInputs& in, std::string* error) {
-  return draw(aerial_, in, kAerialSteps, true, error);
+  while (glGetError() != GL_NO_ERROR) {}
+  if (in.method != SkyMethod::kMarch && !ensure_aerial_volume(in, error)) return false;
+  const SkyMethod variant = in.method == SkyMethod::kMarch ? SkyMethod::kMarch : SkyMethod::kLut;
+  return draw(aerial_[static_cast<int>(variant)], in, settings_.march_aerial_steps, true, error);
 }
 
 }  // namespace atmo::gl

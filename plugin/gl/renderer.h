@@ -1,16 +1,38 @@
 // renderer.h — the thin GL layer: owns the plugin's GL objects for one
 // context and draws what the core computed. No physics here: every number a
-// pass needs arrives in PassInputs, computed on the CPU in double precision.
+// pass needs arrives in PassInputs, computed on the CPU in double precision;
+// the shaders evaluate shaders/atmosphere/functions.glsl.
+//
+// Tables on the GPU (sizes in docs/SKY.md): the transmittance and multiple-
+// scattering tables come from the CPU; the sky-view table (RGBA32F 2D) and the
+// aerial-perspective volume (two RGBA32F 3D textures) are rendered here from
+// them, only when their inputs changed (the sky view: air, altitude, sun; the
+// volume: also the camera).
 #pragma once
 
 #include <glad/gl.h>
 #include <glm/glm.hpp>
 
 #include <string>
+#include <vector>
 
+#include "core/preetham.h"
 #include "core/shader_twin.h"
 
 namespace atmo::gl {
+
+// Matches the METHOD_* constants of shaders/atmosphere/pass_common.glsl.
+enum class SkyMethod : int { kLut = 0, kAnalytic = 1, kMarch = 2 };
+
+// Table sizes and march steps: the quality knobs of the LUT tier.
+struct LutSettings {
+  int sky_view_width = 192, sky_view_height = 108;  // height even: the horizon is a row boundary
+  int sky_view_steps = 32;
+  int aerial_width = 32, aerial_height = 32, aerial_slices = 32;
+  int aerial_steps = 16;
+  int march_sky_steps = 32;     // the MARCH tier's per-pixel steps
+  int march_aerial_steps = 16;
+};
 
 struct PassInputs {
   twin::AtmosphereParameters atmosphere;
@@ -25,6 +47,10 @@ struct PassInputs {
   float log_coefficient = 1.0f;
   float exposure = 1.0f;
   int output_encoding = 0;
+  SkyMethod method = SkyMethod::kLut;
+  float aerial_range_m = 1.0e6f;             // distance the volume's last slice reaches
+  twin::PreethamCoefficients preetham{};     // ANALYTIC only
+  float analytic_weight = 0.0f;              // ANALYTIC only: Preetham's confidence
 };
 
 class Renderer {
@@ -37,7 +63,11 @@ class Renderer {
   void destroy();
   // Drops GL object names without calling GL (context lost).
   void forget();
-  bool initialised() const { return sky_.program != 0; }
+  bool initialised() const { return sky_[0].program != 0; }
+
+  // Table sizes; takes effect at the next pass (the tables are rebuilt).
+  void set_lut_settings(const LutSettings& s);
+  const LutSettings& lut_settings() const { return settings_; }
 
   // Uploads the transmittance and multiple-scattering tables (RGB32F).
   void upload_tables(const twin::Lut2D& transmittance, const twin::Lut2D& multiple_scattering);
@@ -45,25 +75,49 @@ class Renderer {
   bool draw_sky(const PassInputs& in, std::string* error);
   bool draw_aerial_perspective(const PassInputs& in, std::string* error);
 
+  // How many times each derived table was rendered (tests check the caching).
+  struct Counters {
+    uint64_t sky_view_builds = 0, aerial_volume_builds = 0;
+  };
+  const Counters& counters() const { return counters_; }
+
  private:
   struct Program {
     GLuint program = 0;
-    // Uniform locations, looked up once after linking.
-    GLint bottom_radius, top_radius, rayleigh_scattering, rayleigh_scale_height, mie_scattering,
-        mie_extinction, mie_scale_height, mie_g, ozone_absorption, ozone_center, ozone_half_width,
-        sun_illuminance, sun_angular_radius, ground_albedo;
-    GLint transmittance, transmittance_size, multiple_scattering, multiple_scattering_size, depth, has_depth, depth_convention, log_far, log_coefficient,
-        view_from_clip, enu_from_view, viewport, eye_altitude, sun_direction, exposure, output_encoding, steps;
+    // Uniform locations, looked up once after linking (-1 where a shader lacks one).
+    GLint bottom_radius, top_radius, rayleigh_scattering, rayleigh_scale_height, mie_scattering, mie_extinction,
+        mie_scale_height, mie_g, ozone_absorption, ozone_center, ozone_half_width, sun_illuminance,
+        sun_angular_radius, ground_albedo;
+    GLint transmittance, transmittance_size, multiple_scattering, multiple_scattering_size, depth, has_depth,
+        depth_convention, log_far, log_coefficient, view_from_clip, enu_from_view, viewport, eye_altitude,
+        sun_direction, exposure, output_encoding, steps;
+    GLint sky_view, sky_view_size, aerial_inscatter, aerial_transmittance, aerial_range, aerial_slices,
+        aerial_grid, slice, sin_sun_elevation, analytic_weight;
+    GLint preetham[6];
   };
-  bool build(Program* p, const char* fragment_path, std::string* error);
+  bool build(Program* p, const char* fragment_path, SkyMethod method, std::string* error);
   void set_uniforms(const Program& p, const PassInputs& in, int steps) const;
+  void bind_textures(GLuint depth_texture) const;
   bool draw(const Program& p, const PassInputs& in, int steps, bool dual_source_blend, std::string* error);
+  bool ensure_sky_view(const PassInputs& in, std::string* error);
+  bool ensure_aerial_volume(const PassInputs& in, std::string* error);
+  void allocate_derived_tables();
 
-  Program sky_, aerial_;
-  GLuint vao_ = 0;
+  static constexpr int kMethods = 3;
+  // One variant per SkyMethod (indexed by its value); the analytic tier's
+  // aerial perspective uses the LUT variant.
+  Program sky_[kMethods], aerial_[kMethods], sky_view_builder_, aerial_volume_builder_;
+  GLuint vao_ = 0, fbo_ = 0;
   GLuint transmittance_texture_ = 0, multiple_scattering_texture_ = 0;
+  GLuint sky_view_texture_ = 0, aerial_inscatter_texture_ = 0, aerial_transmittance_texture_ = 0;
   GLuint linear_sampler_ = 0, nearest_sampler_ = 0;
   glm::vec2 transmittance_size_{1.0f}, multiple_scattering_size_{1.0f};
+  LutSettings settings_;
+  bool derived_allocated_ = false;
+  uint64_t tables_version_ = 0;  // bumps on every upload: derived tables depend on it
+  // The inputs each derived table was last built from (bytes compared).
+  std::vector<unsigned char> sky_view_key_, aerial_key_;
+  Counters counters_;
 };
 
 }  // namespace atmo::gl

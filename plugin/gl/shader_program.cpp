@@ -49,9 +49,10 @@ bool expand(std::string_view path, std::set<std::string>& seen, std::string& out
   return true;
 }
 
-GLuint compile(GLenum stage, std::string_view path, std::string* error) {
+GLuint compile(GLenum stage, std::string_view path, std::string_view defines, std::string* error) {
   std::set<std::string> seen;
   std::string source = kVersionLine;
+  source += defines;
   if (!expand(path, seen, source, error)) return 0;
   GLuint shader = glCreateShader(stage);
   const char* text = source.c_str();
@@ -75,10 +76,11 @@ std::string expand_shader_source(std::string_view path, std::string* error) {
   return out;
 }
 
-GLuint build_program(std::string_view vertex_path, std::string_view fragment_path, std::string* error) {
-  GLuint vs = compile(GL_VERTEX_SHADER, vertex_path, error);
+GLuint build_program(std::string_view vertex_path, std::string_view fragment_path, std::string_view defines,
+                     std::string* error) {
+  GLuint vs = compile(GL_VERTEX_SHADER, vertex_path, defines, error);
   if (!vs) return 0;
-  GLuint fs = compile(GL_FRAGMENT_SHADER, fragment_path, error);
+  GLuint fs = compile(GL_FRAGMENT_SHADER, fragment_path, defines, error);
   if (!fs) {
     glDeleteShader(vs);
     return 0;
@@ -93,7 +95,8 @@ GLuint build_program(std::string_view vertex_path, std::string_view fragment_pat
   glGetProgramiv(program, GL_LINK_STATUS, &ok);
   if (!ok) {
     if (error)
-      *error = "linking " + std::string(vertex_path) + " + " + std::string(fragment_path) + ": " +
+      *error = "linking " + std::string(vertex_path) + " + " + std::string(fragment_path) + " (" +
+               std::string(defines) + "): " +
                info_log(program, glGetProgramiv, glGetProgramInfoLog);
     glDeleteProgram(program);
     return 0;

@@ -13,8 +13,11 @@ namespace atmo::gl {
 // Returns the embedded source with includes expanded; empty + *error if a file is missing.
 std::string expand_shader_source(std::string_view path, std::string* error);
 
-// Compiles and links a vertex + fragment program; 0 and *error (with the
-// compiler log and file names) on failure.
-GLuint build_program(std::string_view vertex_path, std::string_view fragment_path, std::string* error);
+// Compiles and links a vertex + fragment program; `defines` (lines such as
+// "#define ATMO_METHOD 0\n") go right after the #version line, so one source
+// builds specialised variants. 0 and *error (with the compiler log and file
+// names) on failure.
+GLuint build_program(std::string_view vertex_path, std::string_view fragment_path, std::string_view defines,
+                     std::string* error);
 
 }  // namespace atmo::gl

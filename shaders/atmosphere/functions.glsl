@@ -382,6 +382,102 @@ ATMO_FN vec3 sky_radiance(IN(AtmosphereParameters) atm, LUT2D lut, IN(vec2) lut_
   return r.sun_visible ? r.diffuse + r.transmittance * sun_disc_radiance(atm, dir, sun_dir) : r.diffuse;
 }
 
+// --- Sky-view table (Hillaire 2020, section 5.3) ----------------------------
+// The diffuse sky of sky_radiance_parts (in-scattering to the top of the
+// atmosphere, plus the lit ground where the ray meets the Earth; no sun disc)
+// over every direction around the eye, by azimuth from the sun (0..pi: the sky
+// is symmetric about the sun's vertical plane) and elevation. The geometric
+// horizon, which dips by acos(R / r) with altitude, sits at v = 0.5 (a row
+// boundary for an even height, so sky and ground texels never blend across
+// it); above and below, v goes as the square root of the angle from the
+// horizon, crowding texels where the sky changes fastest. The table depends on
+// the eye altitude and the sun's elevation (and the air), not on the camera.
+
+ATMO_FN float horizon_elevation(IN(AtmosphereParameters) atm, float eye_altitude_m) {
+  float r = atm.bottom_radius_m + max(eye_altitude_m, 0.0f);
+  return -acos(clamp(atm.bottom_radius_m / r, 0.0f, 1.0f));
+}
+
+ATMO_FN vec2 sky_view_uv(IN(AtmosphereParameters) atm, float eye_altitude_m, IN(vec3) dir, IN(vec3) sun_dir,
+                         IN(vec2) lut_size) {
+  float elevation = asin(clamp(dir.z, -1.0f, 1.0f));
+  float h = horizon_elevation(atm, eye_altitude_m);
+  float v = elevation >= h ? 0.5f + 0.5f * sqrt(clamp((elevation - h) / (0.5f * ATMO_PI - h), 0.0f, 1.0f))
+                           : 0.5f - 0.5f * sqrt(clamp((h - elevation) / (h + 0.5f * ATMO_PI), 0.0f, 1.0f));
+  float lv = length(vec2(dir.x, dir.y));
+  float ls = length(vec2(sun_dir.x, sun_dir.y));
+  float cos_phi = lv > 1e-6f && ls > 1e-6f ? clamp((dir.x * sun_dir.x + dir.y * sun_dir.y) / (lv * ls), -1.0f, 1.0f)
+                                            : 1.0f;
+  float u = acos(cos_phi) / ATMO_PI;
+  return vec2(0.5f / lut_size.x + u * (1.0f - 1.0f / lut_size.x), 0.5f / lut_size.y + v * (1.0f - 1.0f / lut_size.y));
+}
+
+// Inverse of sky_view_uv for filling the table: x in [0,1]^2 with texel
+// centres removed; the direction is in a frame whose x axis is the sun's
+// azimuth (the sun is at (cos e_s, 0, sin e_s)).
+ATMO_FN vec3 sky_view_direction(IN(AtmosphereParameters) atm, float eye_altitude_m, IN(vec2) x) {
+  float h = horizon_elevation(atm, eye_altitude_m);
+  float s = 2.0f * abs(x.y - 0.5f);
+  float elevation = x.y >= 0.5f ? h + s * s * (0.5f * ATMO_PI - h) : h - s * s * (h + 0.5f * ATMO_PI);
+  float phi = x.x * ATMO_PI;
+  return vec3(cos(elevation) * cos(phi), cos(elevation) * sin(phi), sin(elevation));
+}
+
+// One texel of the sky-view table: the diffuse sky (cd/m^2) at unit
+// coordinates x, for the sun at elevation sine sin_sun_elevation.
+ATMO_FN vec3 sky_view_texel(IN(AtmosphereParameters) atm, LUT2D lut, IN(vec2) lut_size, LUT2D ms_lut, IN(vec2) ms_size,
+                            float eye_altitude_m, IN(vec2) x, float sin_sun_elevation, int steps) {
+  float s = clamp(sin_sun_elevation, -1.0f, 1.0f);
+  vec3 sun_local = vec3(sqrt(max(1.0f - s * s, 0.0f)), 0.0f, s);
+  vec3 dir = sky_view_direction(atm, eye_altitude_m, x);
+  return sky_radiance_parts(atm, lut, lut_size, ms_lut, ms_size, eye_altitude_m, dir, sun_local, steps).diffuse;
+}
+
+// Sky radiance (cd/m^2) from the sky-view table's value `diffuse` for the ENU
+// direction dir: adds the sun's disc seen through the air where the ray
+// reaches space (transmittance from the transmittance table).
+ATMO_FN vec3 sky_radiance_with_sun(IN(AtmosphereParameters) atm, LUT2D lut, IN(vec2) lut_size, IN(vec3) diffuse,
+                                   float eye_altitude_m, IN(vec3) dir, IN(vec3) sun_dir) {
+  float r = atm.bottom_radius_m + max(eye_altitude_m, 0.0f);
+  vec3 eye_from_center = vec3(0.0f, 0.0f, r);
+  if (ray_sphere_near(eye_from_center, dir, atm.bottom_radius_m) > 0.0f) return diffuse;
+  vec3 disc = sun_disc_radiance(atm, dir, sun_dir);
+  if (disc.x + disc.y + disc.z <= 0.0f) return diffuse;
+  return diffuse + disc * sample_lut(lut, transmittance_uv_from_r_mu(atm, r, dir.z, lut_size));
+}
+
+// --- Aerial-perspective volume (Hillaire 2020, section 5.4) ------------------
+// Froxels over the screen: (u, v) is the pixel's position in the viewport and
+// w the slice; slice k of n holds the in-scattered light and the transmittance
+// from the eye to distance range * ((k + 1) / n)^2 along the froxel's centre
+// ray. Quadratic slices keep near haze fine while one volume reaches the
+// visible horizon from flight altitude (range = where a grazing ray leaves the
+// atmosphere, or the host's far plane if nearer).
+
+ATMO_FN float aerial_slice_distance(int slice, int slices, float range_m) {
+  float w = (float(slice) + 1.0f) / float(slices);
+  return range_m * w * w;
+}
+
+// Third texture coordinate for a distance, and the weight of the first slice
+// (below it the value fades linearly, in w, to "no air": in-scattering 0,
+// transmittance 1).
+ATMO_FN vec2 aerial_slice_coordinate(float distance_m, float range_m, int slices) {
+  float w = sqrt(clamp(distance_m / range_m, 0.0f, 1.0f)) * float(slices);  // continuous slice index + 1
+  float weight = clamp(w, 0.0f, 1.0f);
+  float z = (max(w - 1.0f, 0.0f) + 0.5f) / float(slices);
+  return vec2(z, weight);
+}
+
+// How far the volume must reach: from the eye to where a ray grazing the
+// Earth leaves the atmosphere.
+ATMO_FN float aerial_geometric_range(IN(AtmosphereParameters) atm, float eye_altitude_m) {
+  float r = atm.bottom_radius_m + max(eye_altitude_m, 0.0f);
+  float to_horizon = sqrt(max(r * r - atm.bottom_radius_m * atm.bottom_radius_m, 0.0f));
+  float horizon_to_top = sqrt(atm.top_radius_m * atm.top_radius_m - atm.bottom_radius_m * atm.bottom_radius_m);
+  return to_horizon + horizon_to_top;
+}
+
 // --- Output encoding -----------------------------------------------------------
 
 // Narkowicz 2015 fit of the ACES filmic curve, then the sRGB transfer function.

@@ -7,6 +7,18 @@
 vec3 sample_lut(sampler2D lut, vec2 uv) { return texture(lut, uv).rgb; }
 
 #include "atmosphere/functions.glsl"
+#include "atmosphere/preetham.glsl"
+
+// ATMO_METHOD: which tier this program variant draws (plugin/gl/renderer.h
+// SkyMethod); the renderer builds one program per method, so no GPU — nor
+// llvmpipe, which runs both sides of a branch under a mask — pays for the
+// branches of the other tiers.
+#define METHOD_LUT 0       // sky-view table + aerial-perspective volume
+#define METHOD_ANALYTIC 1  // Preetham sky cross-faded with the LUT tier by u_analytic_weight
+#define METHOD_MARCH 2     // per-pixel ray march (reference-grade, slow)
+#ifndef ATMO_METHOD
+#define ATMO_METHOD METHOD_LUT
+#endif
 
 uniform AtmosphereParameters u_atmosphere;
 uniform sampler2D u_transmittance;
@@ -26,6 +38,14 @@ uniform vec3 u_sun_direction_enu;
 uniform float u_exposure;
 uniform int u_output_encoding;    // AtmoOutputEncoding
 uniform int u_steps;
+uniform sampler2D u_sky_view;          // sky-view table, RGBA32F, cd/m^2
+uniform vec2 u_sky_view_size;
+uniform sampler3D u_aerial_inscatter;  // aerial-perspective volume, cd/m^2
+uniform sampler3D u_aerial_transmittance;
+uniform float u_aerial_range_m;
+uniform int u_aerial_slices;
+uniform PreethamCoefficients u_preetham;  // zenith luminance already calibrated to the LUT tier
+uniform float u_analytic_weight;          // Preetham's confidence, 0..1
 
 vec2 ndc_xy() { return (gl_FragCoord.xy - u_viewport.xy) / u_viewport.zw * 2.0f - 1.0f; }
 

@@ -18,7 +18,9 @@ TEST(StructLayout, Version1SizesAreFrozen) {
   EXPECT_EQ(sizeof(AtmoViewCreateInfo), V1Size<AtmoViewCreateInfo>::value);
   EXPECT_EQ(sizeof(AtmoAtmosphereState), V1Size<AtmoAtmosphereState>::value);
   EXPECT_EQ(sizeof(AtmoFrameState), V1Size<AtmoFrameState>::value);
-  EXPECT_EQ(sizeof(AtmoViewState), V1Size<AtmoViewState>::value);
+  // AtmoViewState grew at its end (sky_method); 408-byte hosts read it as AUTO.
+  EXPECT_EQ(V1Size<AtmoViewState>::value, 408u);
+  EXPECT_EQ(sizeof(AtmoViewState), 416u);
   EXPECT_EQ(sizeof(AtmoPassInfo), V1Size<AtmoPassInfo>::value);
   // AtmoLighting grew at its end (sky light); hosts with the 104-byte layout keep working.
   EXPECT_EQ(V1Size<AtmoLighting>::value, 104u);
@@ -36,6 +38,7 @@ TEST(StructLayout, Version1OffsetsAreFrozen) {
   EXPECT_EQ(offsetof(AtmoViewState, viewport), 352u);
   EXPECT_EQ(offsetof(AtmoViewState, depth_texture), 368u);
   EXPECT_EQ(offsetof(AtmoViewState, exposure_scale), 400u);
+  EXPECT_EQ(offsetof(AtmoViewState, sky_method), 408u);
   EXPECT_EQ(offsetof(AtmoLighting, sun_illuminance_lux), 80u);
   EXPECT_EQ(offsetof(AtmoLighting, sky_irradiance_sh9), 104u);
   EXPECT_EQ(offsetof(AtmoLighting, sky_average_radiance), 344u);

@@ -40,6 +40,19 @@ struct Fixture {
     target = OffscreenTarget::create(kWidth, kHeight, &error);
     if (!target) throw std::runtime_error("offscreen target: " + error);
   }
+
+  // A new context and view on the same GL context and plugin. A new context
+  // builds its lookup tables on first use, synchronously, so it draws the air it
+  // is given in its very first frame; a context whose air changes keeps drawing
+  // the old air until the new tables come from its worker thread (~0.2 s). Tests
+  // that compare a frame with the air they just set therefore use a new context.
+  void fresh_context() {
+    view.reset();
+    context.reset();  // gl_shutdown, destroy_context
+    context = std::make_unique<atmo::Context>(*plugin, &services);
+    context->gl_init();
+    view = std::make_unique<atmo::View>(*context, 0);
+  }
 };
 
 inline glm::dmat4 look(double heading_deg, double pitch_deg) {

@@ -59,6 +59,10 @@ TEST(Robustness, FiniteAndNonNegativeEverywhereItIsKnownToFail) {
   const double pitches[] = {-89.9, 0.0, 89.9};
   int renders = 0;
   for (double vis : visibilities) {
+    // A new context per air, so its first frame draws that air. Within it the
+    // latitudes change the model sphere: those tables come from the worker while
+    // the frames keep the previous sphere's (every frame must be finite either way).
+    f.fresh_context();
     auto atm = atmo::make<AtmoAtmosphereState>(ATMO_TYPE_ATMOSPHERE_STATE);
     atm.visibility_m = vis;
     f.context->set_atmosphere(atm);

@@ -257,6 +257,27 @@ typedef enum AtmoOutputEncoding {
   ATMO_OUTPUT_DISPLAY_SRGB = 1
 } AtmoOutputEncoding;
 
+/* How the sky and aerial-perspective passes compute the air (docs/SKY.md has
+   each method's measured error and cost). */
+typedef enum AtmoSkyMethod {
+  /* The plugin chooses: ATMO_SKY_METHOD_LUT, or the march where the tables do
+     not apply (eye above the atmosphere). */
+  ATMO_SKY_METHOD_AUTO = 0,
+  /* Lookup tables (Hillaire 2020): a sky-view table per view and an
+     aerial-perspective volume per view and frame, built on the GPU from the
+     transmittance and multiple-scattering tables. The default. */
+  ATMO_SKY_METHOD_LUT = 1,
+  /* Preetham 1999 analytic sky, its zenith luminance calibrated to the LUT
+     model; where the fit is not valid (low turbidity, sun below ~6 degrees,
+     eye above ~500 m) it cross-fades to the LUT tier by its confidence.
+     Aerial perspective as in the LUT tier. Cheapest. */
+  ATMO_SKY_METHOD_ANALYTIC = 2,
+  /* Per-pixel ray march of the same model, no sky-view or volume tables:
+     the most accurate real-time method and the slowest. */
+  ATMO_SKY_METHOD_MARCH = 3,
+  ATMO_SKY_METHOD_COUNT = 4
+} AtmoSkyMethod;
+
 /* One channel's camera and render target for this frame. Matrices are
    column-major 4x4 doubles (OpenGL convention, element [col*4 + row]). */
 typedef struct AtmoViewState {
@@ -294,6 +315,10 @@ typedef struct AtmoViewState {
   /* Multiplier from cd/m^2 to output units. 0: default 1 / (1.2 * 2^15), i.e.
      EV100 = 15, a sunny-day exposure. Photographic: 1 / (1.2 * 2^EV100). */
   double exposure_scale;
+
+  /* --- Added after version 1 (a 408-byte host struct reads these as 0) --- */
+  uint32_t sky_method;          /* AtmoSkyMethod; 0 = ATMO_SKY_METHOD_AUTO */
+  uint32_t reserved2;           /* 0 */
 } AtmoViewState;
 
 /* ------------------------------------------------------------------------ */

@@ -1,0 +1,84 @@
+#include "abi/pass_inputs.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "abi/validation.h"
+#include "core/preetham.h"
+
+namespace atmo::abi {
+
+gl::SkyMethod resolve_sky_method(uint32_t requested, double eye_altitude_m, double atmosphere_thickness_m) {
+  if (requested == ATMO_SKY_METHOD_MARCH || eye_altitude_m >= atmosphere_thickness_m) return gl::SkyMethod::kMarch;
+  if (requested == ATMO_SKY_METHOD_ANALYTIC) return gl::SkyMethod::kAnalytic;
+  return gl::SkyMethod::kLut;
+}
+
+float aerial_volume_range_m(const core::Scene& scene, const AtmoViewState& state, const glm::dmat4& view_from_clip) {
+  const auto& atm = scene.atmosphere;
+  double range = twin::aerial_geometric_range(atm, static_cast<float>(scene.eye_altitude_m));
+  double far_m = 0.0;  // 0: infinite or unknown
+  if (state.depth_convention == ATMO_DEPTH_LOGARITHMIC) {
+    far_m = state.far_plane_m;
+  } else {
+    double far_ndc_z = state.depth_convention == ATMO_DEPTH_REVERSED_ZERO_TO_ONE ? 0.0 : 1.0;
+    glm::dvec4 p = view_from_clip * glm::dvec4(1.0, 1.0, far_ndc_z, 1.0);
+    if (std::abs(p.w) > 1e-12) {
+      glm::dvec3 corner = glm::dvec3(p) / p.w;
+      if (corner.z < 0.0 && std::isfinite(corner.z)) far_m = glm::length(corner);
+    }
+  }
+  if (far_m > 0.0 && std::isfinite(far_m)) range = std::min(range, far_m * 1.001);
+  return static_cast<float>(std::max(range, 1000.0));
+}
+
+gl::PassInputs make_pass_inputs(const core::Scene& scene, const AtmoView_T& view, const twin::Lut2D& transmittance,
+                                const twin::Lut2D& multiple_scattering) {
+  gl::PassInputs in;
+  const AtmoViewState& v = view.state;
+  in.atmosphere = scene.atmosphere;
+  in.sun_direction_enu = glm::vec3(scene.sun_direction_enu);
+  in.eye_altitude_m = static_cast<float>(scene.eye_altitude_m);
+  in.enu_from_view = glm::mat3(view.eye.enu_from_view);
+  in.view_from_clip = glm::mat4(view.eye.view_from_clip);
+  for (int i = 0; i < 4; ++i) in.viewport[i] = v.viewport[i];
+  in.depth_texture = v.depth_texture;
+  in.depth_convention = static_cast<int>(v.depth_convention);
+  in.log_far_m = static_cast<float>(v.far_plane_m);
+  in.log_coefficient = static_cast<float>(v.log_depth_coefficient != 0.0 ? v.log_depth_coefficient : 1.0);
+  in.exposure = static_cast<float>(v.exposure_scale != 0.0 ? v.exposure_scale : kDefaultExposureScale);
+  in.output_encoding = static_cast<int>(v.output_encoding);
+  const double thickness_m = static_cast<double>(scene.atmosphere.top_radius_m - scene.atmosphere.bottom_radius_m);
+  in.method = resolve_sky_method(v.sky_method, scene.eye_altitude_m, thickness_m);
+  in.aerial_range_m = aerial_volume_range_m(scene, v, view.eye.view_from_clip);
+
+  if (in.method == gl::SkyMethod::kAnalytic) {
+    const core::AtmosphereSettings& air = view.context->atmosphere;
+    const double turbidity = core::preetham_turbidity_from_visibility(air.visibility_m, air.aerosol_scale_height_m);
+    const double sun_elevation = std::asin(std::clamp(scene.sun_direction_enu.z, -1.0, 1.0));
+    const core::PreethamValidity validity = core::preetham_validity(turbidity, sun_elevation, scene.eye_altitude_m);
+    in.analytic_weight = validity.valid ? static_cast<float>(validity.confidence) : 0.0f;
+    if (in.analytic_weight > 0.0f) {
+      // Absolute calibration: Preetham's zenith luminance fit is off by a
+      // factor of ~2 against the physical model (docs/PREETHAM.md); keep its
+      // angular distribution and chromaticity, take the zenith luminance from
+      // the LUT model (one CPU march, microseconds).
+      in.preetham = core::preetham_coefficients(turbidity, M_PI / 2.0 - sun_elevation);
+      const glm::vec2 t_size(transmittance.width, transmittance.height);
+      const glm::vec2 ms_size(multiple_scattering.width, multiple_scattering.height);
+      const glm::vec3 zenith = twin::sky_radiance_parts(in.atmosphere, transmittance, t_size, multiple_scattering,
+                                                        ms_size, in.eye_altitude_m, glm::vec3(0.0f, 0.0f, 1.0f),
+                                                        in.sun_direction_enu, 64)
+                                   .diffuse;
+      const float model_luminance = 0.2126f * zenith.x + 0.7152f * zenith.y + 0.0722f * zenith.z;
+      if (in.preetham.zenith_Yxy.x > 0.0f && model_luminance > 0.0f) {
+        in.preetham.zenith_Yxy.x = model_luminance;
+      } else {
+        in.analytic_weight = 0.0f;
+      }
+    }
+  }
+  return in;
+}
+
+}  // namespace atmo::abi
