@@ -4,6 +4,8 @@
 // The LUT and analytic tiers read the aerial-perspective volume (two texture
 // fetches); the march tier integrates per pixel.
 #include "atmosphere/pass_common.glsl"
+#define ATMO_AERIAL_NO_UNIFORMS
+#include "../host_sdk/include/atmo/atmo_aerial_perspective.glsl"  // the same lookup hosts use
 
 layout(location = 0, index = 0) out vec4 out_inscattered;
 layout(location = 0, index = 1) out vec4 out_transmittance;
@@ -27,10 +29,8 @@ void main() {
 #else
   {
     vec2 uv = (gl_FragCoord.xy - u_viewport.xy) / u_viewport.zw;
-    vec2 slice = aerial_slice_coordinate(distance_m, u_aerial_range_m, u_aerial_slices);
-    vec3 coord = vec3(uv, slice.x);
-    inscattered = texture(u_aerial_inscatter, coord).rgb * slice.y;
-    transmittance = mix(vec3(1.0f), texture(u_aerial_transmittance, coord).rgb, slice.y);
+    atmo_aerial_perspective_sample(u_aerial_inscatter, u_aerial_transmittance, uv, distance_m, u_aerial_range_m,
+                                   u_aerial_slices, inscattered, transmittance);
   }
 #endif
   out_inscattered = vec4(encode_output(inscattered), 0.0f);

@@ -406,6 +406,15 @@ AtmoResult get_lighting(AtmoView view_handle, AtmoLighting* out) {
       l.sky_illuminance_horizontal_lux[i] = sky.horizontal_illuminance_lux[i];
       l.sky_average_radiance[i] = sky.average_radiance[i];
     }
+    if (ctx->gl_alive) {
+      const atmo::gl::PassInputs inputs = atmo::abi::make_pass_inputs(scene, *view, ctx->lut, ctx->multiple_scattering);
+      if (inputs.method != atmo::gl::SkyMethod::kMarch) {
+        l.aerial_inscatter_texture = ctx->renderer.aerial_inscatter_texture();
+        l.aerial_transmittance_texture = ctx->renderer.aerial_transmittance_texture();
+      }
+      l.aerial_range_m = inputs.aerial_range_m;
+      l.aerial_slices = static_cast<uint32_t>(ctx->renderer.lut_settings().aerial_slices);
+    }
     // Write back what the host's struct can hold, keeping its header.
     size_t n = out->header.struct_size < sizeof(l) ? out->header.struct_size : sizeof(l);
     l.header = out->header;

@@ -51,6 +51,12 @@ gl::PassInputs make_pass_inputs(const core::Scene& scene, const AtmoView_T& view
   const double thickness_m = static_cast<double>(scene.atmosphere.top_radius_m - scene.atmosphere.bottom_radius_m);
   in.method = resolve_sky_method(v.sky_method, scene.eye_altitude_m, thickness_m);
   in.aerial_range_m = aerial_volume_range_m(scene, v, view.eye.view_from_clip);
+  auto or_default = [](uint32_t value, int fallback) { return value != 0 ? static_cast<int>(value) : fallback; };
+  in.lut.sky_view_width = or_default(v.sky_view_table_size[0], in.lut.sky_view_width);
+  in.lut.sky_view_height = or_default(v.sky_view_table_size[1], in.lut.sky_view_height);
+  in.lut.aerial_width = or_default(v.aerial_volume_size[0], in.lut.aerial_width);
+  in.lut.aerial_height = or_default(v.aerial_volume_size[1], in.lut.aerial_height);
+  in.lut.aerial_slices = or_default(v.aerial_volume_size[2], in.lut.aerial_slices);
 
   if (in.method == gl::SkyMethod::kAnalytic) {
     const core::AtmosphereSettings& air = view.context->atmosphere;

@@ -47,6 +47,14 @@ bool enum_value(Verdict* v, const char* field, uint32_t value, uint32_t count) {
   return false;
 }
 
+// 0 (the default) or within [lo, hi].
+bool table_size(Verdict* v, const char* field, uint32_t value, uint32_t lo, uint32_t hi) {
+  if (value == 0 || (value >= lo && value <= hi)) return true;
+  *v = {ATMO_ERROR_INVALID_ARGUMENT, std::string(field) + " = " + std::to_string(value) + " is outside [" +
+                                         std::to_string(lo) + ", " + std::to_string(hi) + "] (0 takes the default)"};
+  return false;
+}
+
 glm::dmat4 matrix(const double m[16]) {
   glm::dmat4 out;
   for (int c = 0; c < 4; ++c)
@@ -89,6 +97,17 @@ Verdict validate_view(const AtmoViewState& s, core::EyeFrame* out) {
   if (!enum_value(&v, "AtmoViewState.depth_convention", s.depth_convention, 3)) return v;
   if (!enum_value(&v, "AtmoViewState.output_encoding", s.output_encoding, 2)) return v;
   if (!enum_value(&v, "AtmoViewState.sky_method", s.sky_method, ATMO_SKY_METHOD_COUNT)) return v;
+  if (!table_size(&v, "AtmoViewState.sky_view_table_size[0]", s.sky_view_table_size[0], 16, 1024)) return v;
+  if (!table_size(&v, "AtmoViewState.sky_view_table_size[1]", s.sky_view_table_size[1], 16, 1024)) return v;
+  if (s.sky_view_table_size[1] % 2 != 0) {
+    return {ATMO_ERROR_INVALID_ARGUMENT, "AtmoViewState.sky_view_table_size[1] = " +
+                                             std::to_string(s.sky_view_table_size[1]) +
+                                             " must be even (the horizon lies on a row boundary)"};
+  }
+  for (int i = 0; i < 3; ++i) {
+    const std::string field = "AtmoViewState.aerial_volume_size[" + std::to_string(i) + "]";
+    if (!table_size(&v, field.c_str(), s.aerial_volume_size[i], 4, 256)) return v;
+  }
 
   core::CameraInput cam;
   cam.eye_is_geodetic = s.eye_kind == ATMO_POSITION_GEODETIC;

@@ -39,6 +39,12 @@ inline vec3 sample_lut(const Lut2D& table, const vec2& uv) {
 #define OUT(T) T&
 #define LUT2D const Lut2D&
 #include "atmosphere/functions.glsl"
+// The aerial-perspective volume's slice mapping, from the host include.
+#define ATMO_TWIN
+#define ATMO_AP_FN inline
+#include "atmo/atmo_aerial_perspective.glsl"
+#undef ATMO_AP_FN
+#undef ATMO_TWIN
 #undef ATMO_FN
 #undef IN
 #undef OUT

@@ -178,7 +178,8 @@ void Renderer::forget() {
   aerial_key_.clear();
 }
 
-void Renderer::set_lut_settings(const LutSettings& s) {
+void Renderer::use_lut_settings(const LutSettings& s) {
+  if (s == settings_) return;
   settings_ = s;
   derived_allocated_ = false;
   sky_view_key_.clear();
@@ -370,6 +371,7 @@ bool Renderer::draw(const Program& p, const PassInputs& in, int steps, bool dual
 
 bool Renderer::draw_sky(const PassInputs& in, std::string* error) {
   while (glGetError() != GL_NO_ERROR) {}  // errors the host left are not ours
+  use_lut_settings(in.lut);
   const bool needs_sky_view = in.method == SkyMethod::kLut ||
                               (in.method == SkyMethod::kAnalytic && in.analytic_weight < 1.0f);
   if (needs_sky_view && !ensure_sky_view(in, error)) return false;
@@ -378,6 +380,7 @@ bool Renderer::draw_sky(const PassInputs& in, std::string* error) {
 
 bool Renderer::draw_aerial_perspective(const PassInputs& in, std::string* error) {
   while (glGetError() != GL_NO_ERROR) {}
+  use_lut_settings(in.lut);
   if (in.method != SkyMethod::kMarch && !ensure_aerial_volume(in, error)) return false;
   const SkyMethod variant = in.method == SkyMethod::kMarch ? SkyMethod::kMarch : SkyMethod::kLut;
   return draw(aerial_[static_cast<int>(variant)], in, settings_.march_aerial_steps, true, error);

@@ -32,6 +32,12 @@ struct LutSettings {
   int aerial_steps = 16;
   int march_sky_steps = 32;     // the MARCH tier's per-pixel steps
   int march_aerial_steps = 16;
+  bool operator==(const LutSettings& o) const {
+    return sky_view_width == o.sky_view_width && sky_view_height == o.sky_view_height &&
+           sky_view_steps == o.sky_view_steps && aerial_width == o.aerial_width && aerial_height == o.aerial_height &&
+           aerial_slices == o.aerial_slices && aerial_steps == o.aerial_steps &&
+           march_sky_steps == o.march_sky_steps && march_aerial_steps == o.march_aerial_steps;
+  }
 };
 
 struct PassInputs {
@@ -51,6 +57,7 @@ struct PassInputs {
   float aerial_range_m = 1.0e6f;             // distance the volume's last slice reaches
   twin::PreethamCoefficients preetham{};     // ANALYTIC only
   float analytic_weight = 0.0f;              // ANALYTIC only: Preetham's confidence
+  LutSettings lut;                           // table sizes for this view
 };
 
 class Renderer {
@@ -65,8 +72,10 @@ class Renderer {
   void forget();
   bool initialised() const { return sky_[0].program != 0; }
 
-  // Table sizes; takes effect at the next pass (the tables are rebuilt).
-  void set_lut_settings(const LutSettings& s);
+  // The aerial-perspective volume as the last aerial pass built it (0 names
+  // before any), for the host's transparent objects.
+  GLuint aerial_inscatter_texture() const { return aerial_key_.empty() ? 0 : aerial_inscatter_texture_; }
+  GLuint aerial_transmittance_texture() const { return aerial_key_.empty() ? 0 : aerial_transmittance_texture_; }
   const LutSettings& lut_settings() const { return settings_; }
 
   // Uploads the transmittance and multiple-scattering tables (RGB32F).
@@ -102,6 +111,8 @@ class Renderer {
   bool ensure_sky_view(const PassInputs& in, std::string* error);
   bool ensure_aerial_volume(const PassInputs& in, std::string* error);
   void allocate_derived_tables();
+  // Table sizes; reallocates and invalidates the derived tables when they change.
+  void use_lut_settings(const LutSettings& s);
 
   static constexpr int kMethods = 3;
   // One variant per SkyMethod (indexed by its value); the analytic tier's

@@ -459,16 +459,6 @@ ATMO_FN float aerial_slice_distance(int slice, int slices, float range_m) {
   return range_m * w * w;
 }
 
-// Third texture coordinate for a distance, and the weight of the first slice
-// (below it the value fades linearly, in w, to "no air": in-scattering 0,
-// transmittance 1).
-ATMO_FN vec2 aerial_slice_coordinate(float distance_m, float range_m, int slices) {
-  float w = sqrt(clamp(distance_m / range_m, 0.0f, 1.0f)) * float(slices);  // continuous slice index + 1
-  float weight = clamp(w, 0.0f, 1.0f);
-  float z = (max(w - 1.0f, 0.0f) + 0.5f) / float(slices);
-  return vec2(z, weight);
-}
-
 // How far the volume must reach: from the eye to where a ray grazing the
 // Earth leaves the atmosphere.
 ATMO_FN float aerial_geometric_range(IN(AtmosphereParameters) atm, float eye_altitude_m) {

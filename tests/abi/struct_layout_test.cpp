@@ -20,11 +20,11 @@ TEST(StructLayout, Version1SizesAreFrozen) {
   EXPECT_EQ(sizeof(AtmoFrameState), V1Size<AtmoFrameState>::value);
   // AtmoViewState grew at its end (sky_method); 408-byte hosts read it as AUTO.
   EXPECT_EQ(V1Size<AtmoViewState>::value, 408u);
-  EXPECT_EQ(sizeof(AtmoViewState), 416u);
+  EXPECT_EQ(sizeof(AtmoViewState), 440u);
   EXPECT_EQ(sizeof(AtmoPassInfo), V1Size<AtmoPassInfo>::value);
   // AtmoLighting grew at its end (sky light); hosts with the 104-byte layout keep working.
   EXPECT_EQ(V1Size<AtmoLighting>::value, 104u);
-  EXPECT_EQ(sizeof(AtmoLighting), 368u);
+  EXPECT_EQ(sizeof(AtmoLighting), 392u);
 }
 
 TEST(StructLayout, Version1OffsetsAreFrozen) {
@@ -42,4 +42,6 @@ TEST(StructLayout, Version1OffsetsAreFrozen) {
   EXPECT_EQ(offsetof(AtmoLighting, sun_illuminance_lux), 80u);
   EXPECT_EQ(offsetof(AtmoLighting, sky_irradiance_sh9), 104u);
   EXPECT_EQ(offsetof(AtmoLighting, sky_average_radiance), 344u);
+  EXPECT_EQ(offsetof(AtmoLighting, aerial_inscatter_texture), 368u);
+  EXPECT_EQ(offsetof(AtmoViewState, sky_view_table_size), 416u);
 }

@@ -319,6 +319,13 @@ typedef struct AtmoViewState {
   /* --- Added after version 1 (a 408-byte host struct reads these as 0) --- */
   uint32_t sky_method;          /* AtmoSkyMethod; 0 = ATMO_SKY_METHOD_AUTO */
   uint32_t reserved2;           /* 0 */
+  /* LUT-tier table sizes (docs/SKY.md charts error against cost per size).
+     0 takes the default. Sky view: width in [16, 1024], height even in
+     [16, 1024], default 192 x 108. Aerial-perspective volume: froxels across
+     and up in [4, 256], slices in [4, 256], default 32 x 32 x 32. */
+  uint32_t sky_view_table_size[2];
+  uint32_t aerial_volume_size[3];
+  uint32_t reserved3;           /* 0 */
 } AtmoViewState;
 
 /* ------------------------------------------------------------------------ */
@@ -369,6 +376,20 @@ typedef struct AtmoLighting {
   double sky_irradiance_sh9[9][3];
   double sky_illuminance_horizontal_lux[3]; /* on an upward-facing surface (direct quadrature, not the SH) */
   double sky_average_radiance[3];           /* cd/m^2, mean over the upper hemisphere: the sky's colour */
+
+  /* Aerial perspective for the host's own transparent objects, with the GLSL
+     include host_sdk/include/atmo/atmo_aerial_perspective.glsl: the GL names
+     of the context's aerial-perspective volume (GL_TEXTURE_3D, RGBA32F;
+     in-scattered light in cd/m^2, and transmittance), how far its last slice
+     reaches (metres) and its slice count. The volume holds what the last
+     render_pass(ATMO_PASS_AERIAL_PERSPECTIVE) on this context built (call it
+     for this view first; the names stay valid until gl_shutdown). Names are 0
+     with the MARCH method or before any such pass. */
+  uint32_t aerial_inscatter_texture;
+  uint32_t aerial_transmittance_texture;
+  double aerial_range_m;
+  uint32_t aerial_slices;
+  uint32_t reserved;
 } AtmoLighting;
 
 /* ------------------------------------------------------------------------ */

@@ -1,0 +1,157 @@
+// The host GLSL include (host_sdk/include/atmo/atmo_aerial_perspective.glsl)
+// gives a host's transparent surface the same haze the plugin's aerial pass
+// puts on opaque geometry at the same distance: a host shader using the
+// include and the textures from get_lighting must reproduce the pass.
+#include <glad/gl.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "plugin_gl_fixture.h"
+
+using namespace plugin_gl;
+
+namespace {
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+GLuint compile(GLenum stage, const std::string& source) {
+  GLuint s = glCreateShader(stage);
+  const char* text = source.c_str();
+  glShaderSource(s, 1, &text, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[4096];
+    glGetShaderInfoLog(s, sizeof log, nullptr, log);
+    ADD_FAILURE() << "host shader: " << log;
+  }
+  return s;
+}
+
+// A host transparent surface covering the screen at the host depth `depth`
+// (standard convention): colour = include(surface colour, distance).
+const char* kVertex =
+    "#version 330 core\nvoid main(){vec2 p=vec2((gl_VertexID<<1)&2,gl_VertexID&2);"
+    "gl_Position=vec4(p*2.0-1.0,0.5,1.0);}\n";
+const char* kFragmentMain = R"(
+uniform mat4 view_from_clip;
+uniform float depth;
+uniform vec3 surface;
+out vec4 colour;
+void main() {
+  vec2 ndc = (gl_FragCoord.xy - atmo_viewport.xy) / atmo_viewport.zw * 2.0 - 1.0;
+  vec4 p = view_from_clip * vec4(ndc, depth * 2.0 - 1.0, 1.0);
+  colour = vec4(atmo_apply_aerial_perspective(surface, length(p.xyz / p.w)), 1.0);
+}
+)";
+
+// As the include's header asks: linear filtering, clamped at the edges.
+void set_linear_clamped(GLenum target) {
+  glTexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(target, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+    glTexParameteri(target, wrap, GL_CLAMP_TO_EDGE);
+}
+
+}  // namespace
+
+TEST(HostAerialInclude, TransparentSurfaceMatchesThePluginsPass) {
+  Fixture f;
+  auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+  frame.utc_posix_s = 1718989800.0;  // low sun: coloured haze
+  f.context->set_frame(frame);
+  auto atm = atmo::make<AtmoAtmosphereState>(ATMO_TYPE_ATMOSPHERE_STATE);
+  f.context->set_atmosphere(atm);
+
+  const glm::dmat4 proj = glm::perspective(glm::radians(60.0), double(kWidth) / kHeight, 10.0, 2e5);
+  auto vs = atmo::make<AtmoViewState>(ATMO_TYPE_VIEW_STATE);
+  vs.eye_kind = ATMO_POSITION_GEODETIC;
+  vs.eye_geodetic[0] = 47.26;
+  vs.eye_geodetic[1] = 11.35;
+  vs.eye_geodetic[2] = 1500.0;
+  vs.world_frame = ATMO_WORLD_ENU;
+  vs.world_origin_geodetic[0] = 47.26;
+  vs.world_origin_geodetic[1] = 11.35;
+  copy(look(250.0, 3.0), vs.view_from_world);
+  copy(proj, vs.clip_from_view);
+  vs.viewport[2] = kWidth;
+  vs.viewport[3] = kHeight;
+  vs.exposure_scale = 1.0 / 4000.0;
+  vs.depth_texture = f.target->depth_texture();
+  f.view->set(vs);
+
+  const glm::vec3 surface(0.3f, 0.5f, 0.2f);
+  const GLuint vs_id = compile(GL_VERTEX_SHADER, kVertex);
+  const std::string include = read_text(ATMO_SOURCE_DIR "/host_sdk/include/atmo/atmo_aerial_perspective.glsl");
+  ASSERT_FALSE(include.empty());
+  const GLuint fs_id = compile(GL_FRAGMENT_SHADER, "#version 330 core\n" + include + kFragmentMain);
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, vs_id);
+  glAttachShader(program, fs_id);
+  glLinkProgram(program);
+  GLint linked = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &linked);
+  ASSERT_TRUE(linked);
+  GLuint vao = 0;
+  glGenVertexArrays(1, &vao);
+
+  for (float depth : {0.9f, 0.99f, 0.999f, 0.9999f}) {
+    SCOPED_TRACE(depth);
+    // Reference: the plugin's pass over an opaque surface of that colour at that depth.
+    f.target->bind();
+    f.target->clear(surface.r, surface.g, surface.b, 1.0f, depth);
+    ASSERT_EQ(f.view->render(ATMO_PASS_AERIAL_PERSPECTIVE), ATMO_SUCCESS);
+    atmo::support::Image expected = f.target->read_color();
+
+    const AtmoLighting lighting = f.view->lighting();
+    ASSERT_NE(lighting.aerial_inscatter_texture, 0u);
+    ASSERT_NE(lighting.aerial_transmittance_texture, 0u);
+
+    // The host's transparent surface at the same depth, through the include.
+    f.target->bind();
+    f.target->clear(0, 0, 0, 0, 1.0f);
+    glUseProgram(program);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_3D, lighting.aerial_inscatter_texture);
+    set_linear_clamped(GL_TEXTURE_3D);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_3D, lighting.aerial_transmittance_texture);
+    set_linear_clamped(GL_TEXTURE_3D);
+    glUniform1i(glGetUniformLocation(program, "atmo_aerial_inscatter"), 0);
+    glUniform1i(glGetUniformLocation(program, "atmo_aerial_transmittance"), 1);
+    glUniform1f(glGetUniformLocation(program, "atmo_aerial_range_m"), float(lighting.aerial_range_m));
+    glUniform1i(glGetUniformLocation(program, "atmo_aerial_slices"), int(lighting.aerial_slices));
+    glUniform4f(glGetUniformLocation(program, "atmo_viewport"), 0.0f, 0.0f, float(kWidth), float(kHeight));
+    glUniform1f(glGetUniformLocation(program, "atmo_exposure"), float(vs.exposure_scale));
+    glUniformMatrix4fv(glGetUniformLocation(program, "view_from_clip"), 1, GL_FALSE,
+                       &glm::mat4(glm::inverse(proj))[0][0]);
+    glUniform1f(glGetUniformLocation(program, "depth"), depth);
+    glUniform3f(glGetUniformLocation(program, "surface"), surface.r, surface.g, surface.b);
+    glBindVertexArray(vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    atmo::support::Image got = f.target->read_color();
+
+    double worst = 0.0, change = 0.0;
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x)
+        for (int c = 0; c < 3; ++c) {
+          worst = std::max(worst, double(std::abs(got.pixel(x, y)[c] - expected.pixel(x, y)[c])));
+          change = std::max(change, double(std::abs(expected.pixel(x, y)[c] - surface[c])));
+        }
+    std::printf("[ include ] depth %.4f: haze changes the surface by up to %.3f; include vs pass: %.2e\n", depth,
+                change, worst);
+    EXPECT_GT(change, 1e-3);  // the comparison is not vacuous: the haze is visible
+    EXPECT_LT(worst, 1e-4);
+  }
+  glDeleteProgram(program);
+  glDeleteShader(vs_id);
+  glDeleteShader(fs_id);
+  glDeleteVertexArrays(1, &vao);
+}
