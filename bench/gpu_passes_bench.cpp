@@ -1,7 +1,10 @@
-// GPU time of each pass at 1280x720 (wall time to glFinish; GL timer query alongside), against a trivial
-// full-screen pass (one triangle, colour from the pixel position) timed in the same run: on a
-// noisy machine only the ratios mean something. On llvmpipe "GPU" time is CPU
-// rasterisation on this machine's cores.
+// GPU time of each pass at 1280x720 (wall time to glFinish; GL timer query alongside), for each
+// sky method and LUT size, against two trivial full-screen passes timed in the same run (colour
+// from the pixel position; and two linear fetches from 32^3 RGBA32F volumes, what the LUT tier's
+// aerial pass fetches): on a noisy machine only the ratios mean something. On llvmpipe "GPU" time
+// is CPU rasterisation on this machine's cores. BM_*_Rebuild moves the sun every iteration, so
+// the sky-view table and the aerial volume are rebuilt each time: minus the cached figure, that is
+// the LUT rebuild cost.
 #include <benchmark/benchmark.h>
 #include <glad/gl.h>
 
@@ -20,6 +23,21 @@ namespace {
 
 constexpr int kWidth = 1280, kHeight = 720;
 
+GLuint make_program(const char* vs_src, const char* fs_src) {
+  GLuint s1 = glCreateShader(GL_VERTEX_SHADER), s2 = glCreateShader(GL_FRAGMENT_SHADER);
+  glShaderSource(s1, 1, &vs_src, nullptr);
+  glShaderSource(s2, 1, &fs_src, nullptr);
+  glCompileShader(s1);
+  glCompileShader(s2);
+  GLuint program = glCreateProgram();
+  glAttachShader(program, s1);
+  glAttachShader(program, s2);
+  glLinkProgram(program);
+  glDeleteShader(s1);
+  glDeleteShader(s2);
+  return program;
+}
+
 struct World {
   std::unique_ptr<atmo::support::HeadlessGl> gl;
   std::unique_ptr<atmo::support::OffscreenTarget> target;
@@ -27,7 +45,9 @@ struct World {
   std::unique_ptr<atmo::Context> context;
   std::unique_ptr<atmo::View> view;
   AtmoHostServices services = atmo::make<AtmoHostServices>(ATMO_TYPE_HOST_SERVICES);
-  GLuint trivial_program = 0, vao = 0, query = 0;
+  AtmoViewState view_state{};
+  GLuint trivial_program = 0, two_fetch_program = 0, vao = 0, query = 0, volumes[2] = {0, 0};
+  double utc_posix_s = 1718964000.0;
 
   World() {
     std::string error;
@@ -41,9 +61,7 @@ struct World {
     context = std::make_unique<atmo::Context>(*plugin, &services);
     context->gl_init();
     view = std::make_unique<atmo::View>(*context, 0);
-    auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
-    frame.utc_posix_s = 1718964000.0;
-    context->set_frame(frame);
+    set_time(utc_posix_s);
     // Lower half: host geometry at about 2 km; upper half: sky.
     target->bind();
     glClearDepth(1.0);
@@ -53,24 +71,41 @@ struct World {
     glClearDepth(0.9995);
     glClear(GL_DEPTH_BUFFER_BIT);
     glDisable(GL_SCISSOR_TEST);
-    auto vs = atmo::support::example_view_state(kWidth, kHeight, target->depth_texture(), 900.0);
-    view->set(vs);
+    view_state = atmo::support::example_view_state(kWidth, kHeight, target->depth_texture(), 900.0);
+    view->set(view_state);
 
     const char* vs_src = "#version 330 core\nvoid main(){vec2 p=vec2((gl_VertexID<<1)&2,gl_VertexID&2);"
                          "gl_Position=vec4(p*2.0-1.0,0.5,1.0);}";
     // Colour from the pixel position: a constant colour would let llvmpipe fill tiles without shading.
-    const char* fs_src = "#version 330 core\nout vec4 c;void main(){c=vec4(gl_FragCoord.xy*1e-3,0.5,1.0);}";
-    GLuint s1 = glCreateShader(GL_VERTEX_SHADER), s2 = glCreateShader(GL_FRAGMENT_SHADER);
-    glShaderSource(s1, 1, &vs_src, nullptr);
-    glShaderSource(s2, 1, &fs_src, nullptr);
-    glCompileShader(s1);
-    glCompileShader(s2);
-    trivial_program = glCreateProgram();
-    glAttachShader(trivial_program, s1);
-    glAttachShader(trivial_program, s2);
-    glLinkProgram(trivial_program);
+    trivial_program =
+        make_program(vs_src, "#version 330 core\nout vec4 c;void main(){c=vec4(gl_FragCoord.xy*1e-3,0.5,1.0);}");
+    two_fetch_program = make_program(
+        vs_src,
+        "#version 330 core\nuniform sampler3D a;uniform sampler3D b;out vec4 c;void main(){"
+        "vec3 p=vec3(gl_FragCoord.xy/vec2(1280.0,720.0),fract(gl_FragCoord.x*1e-3));"
+        "c=vec4(texture(a,p).rgb+texture(b,p).rgb,1.0);}");
+    glUseProgram(two_fetch_program);
+    glUniform1i(glGetUniformLocation(two_fetch_program, "a"), 0);
+    glUniform1i(glGetUniformLocation(two_fetch_program, "b"), 1);
+    glUseProgram(0);
+    std::vector<float> texels(32 * 32 * 32 * 4, 0.25f);
+    glGenTextures(2, volumes);
+    for (GLuint t : volumes) {
+      glBindTexture(GL_TEXTURE_3D, t);
+      glTexImage3D(GL_TEXTURE_3D, 0, GL_RGBA32F, 32, 32, 32, 0, GL_RGBA, GL_FLOAT, texels.data());
+      glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAX_LEVEL, 0);
+    }
+    glBindTexture(GL_TEXTURE_3D, 0);
     glGenVertexArrays(1, &vao);
     glGenQueries(1, &query);
+  }
+
+  void set_time(double t) {
+    auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+    frame.utc_posix_s = t;
+    context->set_frame(frame);
   }
 
   // Wall time of the draw up to glFinish, after draining the queue: on llvmpipe
@@ -97,19 +132,45 @@ World& world() {
   return w;
 }
 
-void run(benchmark::State& state, int which) {
+// LUT sizes the error-vs-cost chart tries (index = benchmark argument).
+struct Size {
+  uint32_t sky_view[2];
+  uint32_t volume[3];
+};
+constexpr Size kSizes[] = {{{96, 54}, {16, 16, 16}}, {{192, 108}, {32, 32, 32}}, {{384, 216}, {64, 64, 64}}};
+
+enum Draw { kTrivial, kTwoFetch, kSky, kAerial, kSkyAndAerial };
+
+void run(benchmark::State& state, Draw which, uint32_t method, int size, bool rebuild) {
   World& w = world();
+  AtmoViewState vs = w.view_state;
+  vs.sky_method = method;
+  for (int i = 0; i < 2; ++i) vs.sky_view_table_size[i] = kSizes[size].sky_view[i];
+  for (int i = 0; i < 3; ++i) vs.aerial_volume_size[i] = kSizes[size].volume[i];
+  w.view->set(vs);
   w.target->bind();
   double query_total_ms = 0.0;
   for (auto _ : state) {
+    if (rebuild) {
+      w.utc_posix_s += 60.0;  // the sun moves a quarter of a degree: every derived table is rebuilt
+      w.set_time(w.utc_posix_s);
+    }
     double query_ms = 0.0;
     double ms = w.finished_ms([&] {
-      if (which == 0) {
+      glBindVertexArray(w.vao);
+      if (which == kTrivial) {
         glUseProgram(w.trivial_program);
-        glBindVertexArray(w.vao);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+      } else if (which == kTwoFetch) {
+        glUseProgram(w.two_fetch_program);
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_3D, w.volumes[0]);
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_3D, w.volumes[1]);
         glDrawArrays(GL_TRIANGLES, 0, 3);
       } else {
-        w.view->render(which == 1 ? ATMO_PASS_SKY : ATMO_PASS_AERIAL_PERSPECTIVE);
+        if (which != kAerial) w.view->render(ATMO_PASS_SKY);
+        if (which != kSky) w.view->render(ATMO_PASS_AERIAL_PERSPECTIVE);
       }
     }, &query_ms);
     query_total_ms += query_ms;
@@ -120,12 +181,32 @@ void run(benchmark::State& state, int which) {
       benchmark::Counter(double(kWidth) * kHeight * state.iterations() * 1e-6, benchmark::Counter::kIsRate);
 }
 
-void BM_TrivialFullScreenPass(benchmark::State& s) { run(s, 0); }
-void BM_SkyPass_HalfScreenSky(benchmark::State& s) { run(s, 1); }
-void BM_AerialPerspective_HalfScreenGeometry(benchmark::State& s) { run(s, 2); }
-BENCHMARK(BM_TrivialFullScreenPass)->UseManualTime()->Unit(benchmark::kMillisecond)->MinTime(1.0);
-BENCHMARK(BM_SkyPass_HalfScreenSky)->UseManualTime()->Unit(benchmark::kMillisecond)->MinTime(2.0);
-BENCHMARK(BM_AerialPerspective_HalfScreenGeometry)->UseManualTime()->Unit(benchmark::kMillisecond)->MinTime(2.0);
+void BM_TrivialFullScreenPass(benchmark::State& s) { run(s, kTrivial, 0, 1, false); }
+void BM_TrivialTwoFetchPass(benchmark::State& s) { run(s, kTwoFetch, 0, 1, false); }
+// Argument: LUT size index into kSizes (16^3 / 96x54, 32^3 / 192x108, 64^3 / 384x216).
+void BM_Lut_Sky(benchmark::State& s) { run(s, kSky, ATMO_SKY_METHOD_LUT, int(s.range(0)), false); }
+void BM_Lut_Aerial(benchmark::State& s) { run(s, kAerial, ATMO_SKY_METHOD_LUT, int(s.range(0)), false); }
+void BM_Lut_SkyAndAerial(benchmark::State& s) { run(s, kSkyAndAerial, ATMO_SKY_METHOD_LUT, int(s.range(0)), false); }
+void BM_Lut_SkyAndAerial_Rebuild(benchmark::State& s) {
+  run(s, kSkyAndAerial, ATMO_SKY_METHOD_LUT, int(s.range(0)), true);
+}
+void BM_Analytic_SkyAndAerial(benchmark::State& s) { run(s, kSkyAndAerial, ATMO_SKY_METHOD_ANALYTIC, 1, false); }
+void BM_March_Sky(benchmark::State& s) { run(s, kSky, ATMO_SKY_METHOD_MARCH, 1, false); }
+void BM_March_Aerial(benchmark::State& s) { run(s, kAerial, ATMO_SKY_METHOD_MARCH, 1, false); }
+void BM_March_SkyAndAerial(benchmark::State& s) { run(s, kSkyAndAerial, ATMO_SKY_METHOD_MARCH, 1, false); }
+
+#define ATMO_GPU_BENCH(name, seconds) \
+  BENCHMARK(name)->UseManualTime()->Unit(benchmark::kMillisecond)->MinTime(seconds)
+ATMO_GPU_BENCH(BM_TrivialFullScreenPass, 1.0);
+ATMO_GPU_BENCH(BM_TrivialTwoFetchPass, 1.0);
+ATMO_GPU_BENCH(BM_Lut_Sky, 1.0)->DenseRange(0, 2);
+ATMO_GPU_BENCH(BM_Lut_Aerial, 1.0)->DenseRange(0, 2);
+ATMO_GPU_BENCH(BM_Lut_SkyAndAerial, 1.0)->DenseRange(0, 2);
+ATMO_GPU_BENCH(BM_Lut_SkyAndAerial_Rebuild, 1.0)->DenseRange(0, 2);
+ATMO_GPU_BENCH(BM_Analytic_SkyAndAerial, 1.0);
+ATMO_GPU_BENCH(BM_March_Sky, 2.0);
+ATMO_GPU_BENCH(BM_March_Aerial, 2.0);
+ATMO_GPU_BENCH(BM_March_SkyAndAerial, 2.0);
 
 }  // namespace
 

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "abi/validation.h"
-#include "core/preetham.h"
+#include "core/analytic_tier.h"
 
 namespace atmo::abi {
 
@@ -59,30 +59,10 @@ gl::PassInputs make_pass_inputs(const core::Scene& scene, const AtmoView_T& view
   in.lut.aerial_slices = or_default(v.aerial_volume_size[2], in.lut.aerial_slices);
 
   if (in.method == gl::SkyMethod::kAnalytic) {
-    const core::AtmosphereSettings& air = view.context->atmosphere;
-    const double turbidity = core::preetham_turbidity_from_visibility(air.visibility_m, air.aerosol_scale_height_m);
-    const double sun_elevation = std::asin(std::clamp(scene.sun_direction_enu.z, -1.0, 1.0));
-    const core::PreethamValidity validity = core::preetham_validity(turbidity, sun_elevation, scene.eye_altitude_m);
-    in.analytic_weight = validity.valid ? static_cast<float>(validity.confidence) : 0.0f;
-    if (in.analytic_weight > 0.0f) {
-      // Absolute calibration: Preetham's zenith luminance fit is off by a
-      // factor of ~2 against the physical model (docs/PREETHAM.md); keep its
-      // angular distribution and chromaticity, take the zenith luminance from
-      // the LUT model (one CPU march, microseconds).
-      in.preetham = core::preetham_coefficients(turbidity, M_PI / 2.0 - sun_elevation);
-      const glm::vec2 t_size(transmittance.width, transmittance.height);
-      const glm::vec2 ms_size(multiple_scattering.width, multiple_scattering.height);
-      const glm::vec3 zenith = twin::sky_radiance_parts(in.atmosphere, transmittance, t_size, multiple_scattering,
-                                                        ms_size, in.eye_altitude_m, glm::vec3(0.0f, 0.0f, 1.0f),
-                                                        in.sun_direction_enu, 64)
-                                   .diffuse;
-      const float model_luminance = 0.2126f * zenith.x + 0.7152f * zenith.y + 0.0722f * zenith.z;
-      if (in.preetham.zenith_Yxy.x > 0.0f && model_luminance > 0.0f) {
-        in.preetham.zenith_Yxy.x = model_luminance;
-      } else {
-        in.analytic_weight = 0.0f;
-      }
-    }
+    const core::AnalyticTier tier = core::analytic_tier(view.context->atmosphere, in.atmosphere, transmittance,
+                                                        multiple_scattering, in.sun_direction_enu, in.eye_altitude_m);
+    in.preetham = tier.coefficients;
+    in.analytic_weight = tier.weight;
   }
   return in;
 }
