@@ -274,8 +274,13 @@ int main(int argc, char** argv) {
     }
   }
   if (!error_map.empty()) {
+    constexpr int kScale = 4;  // nearest-neighbour, so each direction stays one visible block
+    atmo::support::Image big = atmo::support::make_image(map.width * kScale, map.height * kScale);
+    for (int y = 0; y < big.height; ++y)
+      for (int x = 0; x < big.width; ++x)
+        for (int c = 0; c < 4; ++c) big.pixel(x, y)[c] = map.pixel(x / kScale, y / kScale)[c];
     std::string error;
-    if (!atmo::support::write_png(error_map, map, &error)) {
+    if (!atmo::support::write_png(error_map, big, &error)) {
       std::fprintf(stderr, "sky_accuracy: %s\n", error.c_str());
       return 1;
     }
