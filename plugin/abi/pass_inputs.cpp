@@ -63,6 +63,8 @@ gl::PassInputs make_pass_inputs(const core::Scene& scene, const AtmoView_T& view
                                                         multiple_scattering, in.sun_direction_enu, in.eye_altitude_m);
     in.preetham = tier.coefficients;
     in.analytic_weight = tier.weight;
+    // Where Preetham has no say, draw with the LUT program: it does not evaluate Preetham at all.
+    if (tier.weight <= 0.0f) in.method = gl::SkyMethod::kLut;
   }
   return in;
 }
