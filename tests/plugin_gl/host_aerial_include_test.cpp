@@ -71,18 +71,7 @@ TEST(HostAerialInclude, TransparentSurfaceMatchesThePluginsPass) {
   f.context->set_atmosphere(atm);
 
   const glm::dmat4 proj = glm::perspective(glm::radians(60.0), double(kWidth) / kHeight, 10.0, 2e5);
-  auto vs = atmo::make<AtmoViewState>(ATMO_TYPE_VIEW_STATE);
-  vs.eye_kind = ATMO_POSITION_GEODETIC;
-  vs.eye_geodetic[0] = 47.26;
-  vs.eye_geodetic[1] = 11.35;
-  vs.eye_geodetic[2] = 1500.0;
-  vs.world_frame = ATMO_WORLD_ENU;
-  vs.world_origin_geodetic[0] = 47.26;
-  vs.world_origin_geodetic[1] = 11.35;
-  copy(look(250.0, 3.0), vs.view_from_world);
-  copy(proj, vs.clip_from_view);
-  vs.viewport[2] = kWidth;
-  vs.viewport[3] = kHeight;
+  AtmoViewState vs = innsbruck_view(1500.0, 250.0, 3.0, proj);
   vs.exposure_scale = 1.0 / 4000.0;
   vs.depth_texture = f.target->depth_texture();
   f.view->set(vs);

@@ -47,20 +47,9 @@ TEST(SkyPass, MatchesCpuTwinAcrossConditions) {
     frame.utc_posix_s = c.utc_posix_s;
     f.context->set_frame(frame);
 
-    auto vs = atmo::make<AtmoViewState>(ATMO_TYPE_VIEW_STATE);
-    vs.eye_kind = ATMO_POSITION_GEODETIC;
-    vs.eye_geodetic[0] = 47.26;
-    vs.eye_geodetic[1] = 11.35;
-    vs.eye_geodetic[2] = c.height_m;
-    vs.world_frame = ATMO_WORLD_ENU;
-    vs.world_origin_geodetic[0] = 47.26;
-    vs.world_origin_geodetic[1] = 11.35;
     glm::dmat4 view = look(270.0, c.pitch_deg);
     glm::dmat4 proj = glm::perspective(glm::radians(60.0), double(kWidth) / kHeight, 1.0, 1e5);
-    copy(view, vs.view_from_world);
-    copy(proj, vs.clip_from_view);
-    vs.viewport[2] = kWidth;
-    vs.viewport[3] = kHeight;
+    AtmoViewState vs = innsbruck_view(c.height_m, 270.0, c.pitch_deg, proj);
     vs.exposure_scale = 1.0;  // output in cd/m^2
     vs.sky_method = method;
     f.view->set(vs);
@@ -124,19 +113,8 @@ TEST(SkyPass, NoonSkyIsBlueAndBrighterTowardsTheSun) {
   auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
   frame.utc_posix_s = 1718964000.0;
   f.context->set_frame(frame);
-  auto vs = atmo::make<AtmoViewState>(ATMO_TYPE_VIEW_STATE);
-  vs.eye_kind = ATMO_POSITION_GEODETIC;
-  vs.eye_geodetic[0] = 47.26;
-  vs.eye_geodetic[1] = 11.35;
-  vs.eye_geodetic[2] = 300.0;
-  vs.world_frame = ATMO_WORLD_ENU;
-  vs.world_origin_geodetic[0] = 47.26;
-  vs.world_origin_geodetic[1] = 11.35;
-  copy(look(0.0, 89.0), vs.view_from_world);  // straight up
-  copy(glm::perspective(glm::radians(60.0), double(kWidth) / kHeight, 1.0, 1e5), vs.clip_from_view);
-  vs.viewport[2] = kWidth;
-  vs.viewport[3] = kHeight;
-  vs.exposure_scale = 1.0;
+  const glm::dmat4 proj = glm::perspective(glm::radians(60.0), double(kWidth) / kHeight, 1.0, 1e5);
+  AtmoViewState vs = innsbruck_view(300.0, 0.0, 89.0, proj);  // straight up
   f.view->set(vs);
   f.target->bind();
   f.target->clear(0, 0, 0, 0);
