@@ -409,7 +409,13 @@ ATMO_FN vec2 sky_view_uv(IN(AtmosphereParameters) atm, float eye_altitude_m, IN(
   float cos_phi = lv > 1e-6f && ls > 1e-6f ? clamp((dir.x * sun_dir.x + dir.y * sun_dir.y) / (lv * ls), -1.0f, 1.0f)
                                             : 1.0f;
   float u = acos(cos_phi) / ATMO_PI;
-  return vec2(0.5f / lut_size.x + u * (1.0f - 1.0f / lut_size.x), 0.5f / lut_size.y + v * (1.0f - 1.0f / lut_size.y));
+  // Within half a row of the horizon, bilinear filtering would blend the sky
+  // and the Earth rows across it (a bright line on the ground): stay on the
+  // direction's own side, at the centre of the row next to the horizon.
+  float half_row = 0.5f / lut_size.y;
+  float v_tex = 0.5f / lut_size.y + v * (1.0f - 1.0f / lut_size.y);
+  v_tex = elevation >= h ? max(v_tex, 0.5f + half_row) : min(v_tex, 0.5f - half_row);
+  return vec2(0.5f / lut_size.x + u * (1.0f - 1.0f / lut_size.x), v_tex);
 }
 
 // Inverse of sky_view_uv for filling the table: x in [0,1]^2 with texel
