@@ -251,7 +251,7 @@ int main(int argc, char** argv) {
           for (int i = 0; i < n; ++i) {
             glm::vec3 d = direction((i + 0.5) / n, (j + 0.5) / n);
             auto s = atmo::twin::integrate_scattering(atm, t, t_size, ms, ms_size, altitude, d, sun,
-                                                      atmo::twin::aerial_slice_distance(k, n, range), 16);
+                                                      atmo::twin::atmo_aerial_slice_distance(k, n, range), 16);
             in.texels.push_back(s.inscattered);
             tr.texels.push_back(s.transmittance);
           }

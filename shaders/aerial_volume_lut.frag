@@ -3,6 +3,8 @@
 // u_aerial_size grid), in-scattering and transmittance from the eye to the
 // slice's distance. Two render targets: in-scattered cd/m^2, transmittance.
 #include "atmosphere/pass_common.glsl"
+#define ATMO_AERIAL_NO_UNIFORMS
+#include "../host_sdk/include/atmo/atmo_aerial_perspective.glsl"  // the slice mapping
 
 uniform int u_slice;
 uniform vec2 u_aerial_grid;  // froxels across the screen (x, y)
@@ -13,7 +15,7 @@ layout(location = 1) out vec4 out_transmittance;
 void main() {
   vec2 ndc = gl_FragCoord.xy / u_aerial_grid * 2.0f - 1.0f;
   vec3 dir = normalize(u_enu_from_view * view_ray_from_ndc(u_view_from_clip, ndc, u_depth_convention));
-  float distance_m = aerial_slice_distance(u_slice, u_aerial_slices, u_aerial_range_m);
+  float distance_m = atmo_aerial_slice_distance(u_slice, u_aerial_slices, u_aerial_range_m);
   ScatteringResult s = integrate_scattering(u_atmosphere, u_transmittance, u_transmittance_size,
                                             u_multiple_scattering, u_multiple_scattering_size, u_eye_altitude_m, dir,
                                             u_sun_direction_enu, distance_m, u_steps);

@@ -407,12 +407,13 @@ AtmoResult get_lighting(AtmoView view_handle, AtmoLighting* out) {
       l.sky_average_radiance[i] = sky.average_radiance[i];
     }
     if (ctx->gl_alive) {
-      const atmo::gl::PassInputs inputs = atmo::abi::make_pass_inputs(scene, *view, ctx->lut, ctx->multiple_scattering);
-      if (inputs.method != atmo::gl::SkyMethod::kMarch) {
+      const double thickness_m = static_cast<double>(atm.top_radius_m - atm.bottom_radius_m);
+      if (atmo::abi::resolve_sky_method(view->state.sky_method, scene.eye_altitude_m, thickness_m) !=
+          atmo::gl::SkyMethod::kMarch) {
         l.aerial_inscatter_texture = ctx->renderer.aerial_inscatter_texture();
         l.aerial_transmittance_texture = ctx->renderer.aerial_transmittance_texture();
       }
-      l.aerial_range_m = inputs.aerial_range_m;
+      l.aerial_range_m = atmo::abi::aerial_volume_range_m(scene, view->state, view->eye.view_from_clip);
       l.aerial_slices = static_cast<uint32_t>(ctx->renderer.lut_settings().aerial_slices);
     }
     // Write back what the host's struct can hold, keeping its header.

@@ -18,6 +18,7 @@
 
 #include "core/preetham.h"
 #include "core/shader_twin.h"
+#include "core/sky_view_table.h"
 
 namespace atmo::gl {
 
@@ -26,7 +27,7 @@ enum class SkyMethod : int { kLut = 0, kAnalytic = 1, kMarch = 2 };
 
 // Table sizes and march steps: the quality knobs of the LUT tier.
 struct LutSettings {
-  int sky_view_width = 192, sky_view_height = 108;  // height even: the horizon is a row boundary
+  int sky_view_width = core::kSkyViewWidth, sky_view_height = core::kSkyViewHeight;
   int sky_view_steps = 32;
   int aerial_width = 32, aerial_height = 32, aerial_slices = 32;
   int aerial_steps = 16;

@@ -458,12 +458,9 @@ ATMO_FN vec3 sky_radiance_with_sun(IN(AtmosphereParameters) atm, LUT2D lut, IN(v
 // from the eye to distance range * ((k + 1) / n)^2 along the froxel's centre
 // ray. Quadratic slices keep near haze fine while one volume reaches the
 // visible horizon from flight altitude (range = where a grazing ray leaves the
-// atmosphere, or the host's far plane if nearer).
-
-ATMO_FN float aerial_slice_distance(int slice, int slices, float range_m) {
-  float w = (float(slice) + 1.0f) / float(slices);
-  return range_m * w * w;
-}
+// atmosphere, or the host's far plane if nearer). The slice mapping and its
+// inverse live in host_sdk/include/atmo/atmo_aerial_perspective.glsl, which
+// host shaders use too.
 
 // How far the volume must reach: from the eye to where a ray grazing the
 // Earth leaves the atmosphere.

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "atmo/atmo.hpp"
+#include "atmo_support/example_view.h"
 #include "atmo_support/headless_gl.h"
 #include "atmo_support/offscreen_target.h"
 
@@ -67,23 +68,14 @@ inline void copy(const glm::dmat4& m, double out[16]) {
     for (int r = 0; r < 4; ++r) out[c * 4 + r] = m[c][r];
 }
 
-// A view over Innsbruck (47.26° N, 11.35° E) at `height_m`, ENU world at the
-// same place, looking along heading/pitch through `projection`, the whole
-// kWidth x kHeight target, output in cd/m^2 (exposure 1).
+// example_view_state's view over Innsbruck (47.26° N, 11.35° E, ENU world
+// there) at `height_m`, turned to heading/pitch through `projection`, with no
+// depth texture and output in cd/m^2 (exposure 1).
 inline AtmoViewState innsbruck_view(double height_m, double heading_deg, double pitch_deg,
                                     const glm::dmat4& projection) {
-  auto vs = atmo::make<AtmoViewState>(ATMO_TYPE_VIEW_STATE);
-  vs.eye_kind = ATMO_POSITION_GEODETIC;
-  vs.eye_geodetic[0] = 47.26;
-  vs.eye_geodetic[1] = 11.35;
-  vs.eye_geodetic[2] = height_m;
-  vs.world_frame = ATMO_WORLD_ENU;
-  vs.world_origin_geodetic[0] = 47.26;
-  vs.world_origin_geodetic[1] = 11.35;
+  AtmoViewState vs = atmo::support::example_view_state(kWidth, kHeight, 0, height_m);
   copy(look(heading_deg, pitch_deg), vs.view_from_world);
   copy(projection, vs.clip_from_view);
-  vs.viewport[2] = kWidth;
-  vs.viewport[3] = kHeight;
   vs.exposure_scale = 1.0;
   return vs;
 }

@@ -37,6 +37,7 @@
 #include "core/preetham.h"
 #include "core/scene.h"
 #include "core/solar_position.h"
+#include "atmo_support/example_view.h"
 #include "plugin_gl_fixture.h"
 
 using namespace plugin_gl;
@@ -146,16 +147,7 @@ GLuint make_depth_bands(int w, int h, bool reversed) {
     }
     for (int x = 0; x < w; ++x) depth[static_cast<size_t>(y) * w + x] = value;
   }
-  GLint previous = 0;
-  glGetIntegerv(GL_TEXTURE_BINDING_2D, &previous);
-  GLuint t = 0;
-  glGenTextures(1, &t);
-  glBindTexture(GL_TEXTURE_2D, t);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, w, h, 0, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(previous));
-  return t;
+  return atmo::support::make_depth_texture(w, h, depth);
 }
 
 const char* method_name(uint32_t m) {

@@ -28,6 +28,12 @@
 #define ATMO_AP_FN
 #endif
 
+// Distance (metres) that slice `slice` of `slices` reaches.
+ATMO_AP_FN float atmo_aerial_slice_distance(int slice, int slices, float range_m) {
+  float w = (float(slice) + 1.0f) / float(slices);
+  return range_m * w * w;
+}
+
 // Third texture coordinate of a distance, and the weight of the volume there
 // (1 from the first slice on). Written in the subset the plugin's C++ twin
 // compiles (float literals with f, no swizzles).

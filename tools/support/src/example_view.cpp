@@ -38,6 +38,10 @@ unsigned make_split_depth_texture(int width, int height, float geometry_depth) {
   std::vector<float> depth(static_cast<size_t>(width) * height, 1.0f);
   for (int y = 0; y < height / 2; ++y)
     for (int x = 0; x < width; ++x) depth[static_cast<size_t>(y) * width + x] = geometry_depth;
+  return make_depth_texture(width, height, depth);
+}
+
+unsigned make_depth_texture(int width, int height, const std::vector<float>& depth) {
   GLint previous = 0;
   glGetIntegerv(GL_TEXTURE_BINDING_2D, &previous);
   GLuint t = 0;

@@ -2,6 +2,8 @@
 // benchmarks and GL tests, so each does not build its own.
 #pragma once
 
+#include <vector>
+
 #include "atmo/atmo.h"
 
 namespace atmo::support {
@@ -16,5 +18,10 @@ AtmoViewState example_view_state(int width, int height, unsigned depth_texture, 
 // `geometry_depth` in the lower half (host geometry; 0.9999 is about 10 km for
 // example_view_state's projection) and the far plane, 1.0, above. [gl-current]
 unsigned make_split_depth_texture(int width, int height, float geometry_depth);
+
+// A GL_DEPTH_COMPONENT32F texture (nearest filtering) holding `depth`, width x
+// height window-depth values, row 0 at the bottom (GL order); the 2D binding is
+// left as it was. [gl-current]
+unsigned make_depth_texture(int width, int height, const std::vector<float>& depth);
 
 }  // namespace atmo::support
