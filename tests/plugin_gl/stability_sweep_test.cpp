@@ -471,18 +471,12 @@ TEST(StabilitySweep, FiniteEverywhereVisibilityAndReversedZ) {
 // included) and the largest model step are printed too.
 constexpr double kSeamShareOfModelStep = 0.05;
 
-// KNOWN FAILURE, DISABLED (issue 3 stays open until it passes): measured on
-// 2026-11-23, the rendering error steps at the horizon by 1.06/255 (LUT,
-// ANALYTIC) and 1.14/255 (MARCH) at 10 km, where the model is continuous,
-// against the bound of 1/255. Cause: the 32-step march's midpoint rule,
-// exp(-tau_mid) * dt per step, leaves rays just above the horizon 1.3-2.6
-// levels darker than the converged model, while rays ending on the Earth are
-// exact. The sky-view table is built with the same march, so every tier shows
-// it. Fix verified in a scratch copy, to land next with regenerated figures:
-// integrate each step's extinction exactly (S (1 - exp(-sigma_t dt)) /
-// sigma_t, Hillaire 2015), giving 0.03/255 (LUT) and 0.16/255 (MARCH). Run it
-// with --gtest_also_run_disabled_tests.
-TEST(StabilitySweep, DISABLED_NoSeamAtTheHorizon) {
+// History: before each march step integrated its extinction exactly
+// (step_transmittance_integral in functions.glsl), the midpoint rule left
+// rays just above the horizon 1.3-2.6 levels darker than the converged
+// model while rays ending on the Earth were exact: a seam of 1.06/255 (LUT,
+// ANALYTIC) and 1.14/255 (MARCH) at 10 km, failing this test.
+TEST(StabilitySweep, NoSeamAtTheHorizon) {
   Rig rig;
   constexpr int W = 48, H = 96;
   constexpr double kFovY = 2.0;
