@@ -74,12 +74,12 @@ bool build_tables(const TableKey& key, const std::atomic<bool>* stop, const std:
   if (transmittance.width == 0) return false;  // stopped
   emit({ATMO_LOG_INFO, format("atmo: %s %dx%d ... done in %.0f ms", "transmittance", tw, th, ms_since(t0))});
 
-  const int ms = core::kMultipleScatteringSize;
+  const int mw = core::kMultipleScatteringWidth, mh = core::kMultipleScatteringHeight;
   t0 = Clock::now();
   twin::Lut2D multiple_scattering = core::compute_multiple_scattering_table(
-      atm, transmittance, ms, 64, 20, stage("multiple scattering", ms, ms, 0.5, 0.5, stop, emit, fraction));
+      atm, transmittance, mw, mh, 64, 20, stage("multiple scattering", mw, mh, 0.5, 0.5, stop, emit, fraction));
   if (multiple_scattering.width == 0) return false;
-  emit({ATMO_LOG_INFO, format("atmo: %s %dx%d ... done in %.0f ms", "multiple scattering", ms, ms, ms_since(t0))});
+  emit({ATMO_LOG_INFO, format("atmo: %s %dx%d ... done in %.0f ms", "multiple scattering", mw, mh, ms_since(t0))});
 
   out->key = key;
   out->transmittance = std::move(transmittance);

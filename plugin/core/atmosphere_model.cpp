@@ -89,22 +89,24 @@ twin::Lut2D compute_transmittance_table(const twin::AtmosphereParameters& atm, i
 }
 
 twin::Lut2D compute_multiple_scattering_table(const twin::AtmosphereParameters& atm, const twin::Lut2D& transmittance,
-                                              int size, int directions, int steps, const TableBuildControl& control) {
+                                              int width, int height, int directions, int steps,
+                                              const TableBuildControl& control) {
   twin::Lut2D table;
-  table.width = table.height = size;
-  table.texels.resize(static_cast<size_t>(size) * size);
+  table.width = width;
+  table.height = height;
+  table.texels.resize(static_cast<size_t>(width) * height);
   const glm::vec2 t_size(transmittance.width, transmittance.height);
-  for (int y = 0; y < size; ++y) {
+  for (int y = 0; y < height; ++y) {
     if (control.stopped()) return {};
-    for (int x = 0; x < size; ++x) {
+    for (int x = 0; x < width; ++x) {
       // Texel centre -> (mu_s, r): the inverse of multiple_scattering_uv.
-      float mu_s = x / (size - 1.0f) * 2.0f - 1.0f;
-      float r = atm.bottom_radius_m + y / (size - 1.0f) * (atm.top_radius_m - atm.bottom_radius_m);
+      float mu_s = x / (width - 1.0f) * 2.0f - 1.0f;
+      float r = atm.bottom_radius_m + y / (height - 1.0f) * (atm.top_radius_m - atm.bottom_radius_m);
       r = std::max(r, atm.bottom_radius_m + 1.0f);  // just above the ground, so rays can leave
-      table.texels[static_cast<size_t>(y) * size + x] =
+      table.texels[static_cast<size_t>(y) * width + x] =
           twin::multiple_scattering_texel(atm, transmittance, t_size, r, mu_s, directions, steps);
     }
-    control.report((y + 1.0) / size);
+    control.report((y + 1.0) / height);
   }
   return table;
 }

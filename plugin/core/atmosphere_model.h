@@ -61,10 +61,17 @@ twin::Lut2D compute_transmittance_table(const twin::AtmosphereParameters& atm, i
 // Multiple-scattering table Psi_ms(mu_s, altitude) (Hillaire 2020), per unit
 // sun illuminance, from the transmittance table: `directions` rays of `steps`
 // samples per texel, through the shared function multiple_scattering_texel.
-constexpr int kMultipleScatteringSize = 32;
+// 64 texels along mu_s: below the horizon Psi_ms falls steeply, and at 32 the
+// linear interpolation between texels made the twilight sky darken in steps
+// (a factor 2.6 between two sun elevations 0.25 deg apart at -9.25 deg; 1.6
+// at 64 — tests/core/twilight_test.cpp). Altitude needs no more than 32.
+constexpr int kMultipleScatteringWidth = 64;   // mu_s
+constexpr int kMultipleScatteringHeight = 32;  // altitude
 twin::Lut2D compute_multiple_scattering_table(const twin::AtmosphereParameters& atm,
-                                              const twin::Lut2D& transmittance, int size = kMultipleScatteringSize,
-                                              int directions = 64, int steps = 20,
+                                              const twin::Lut2D& transmittance,
+                                              int width = kMultipleScatteringWidth,
+                                              int height = kMultipleScatteringHeight, int directions = 64,
+                                              int steps = 20,
                                               const TableBuildControl& control = {});
 
 }  // namespace atmo::core

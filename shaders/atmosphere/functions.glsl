@@ -220,23 +220,25 @@ struct ScatteringResult {
   vec3 transmittance;  // along the segment
 };
 
+// The integral of exp(-sigma_t s) over one step of length dt, with sigma_t
+// constant across the step: (1 - exp(-sigma_t dt)) / sigma_t (Hillaire 2015),
+// given step_transmittance = exp(-sigma_t dt) (the caller needs it anyway, so
+// a step costs one exp as the midpoint rule did). A midpoint rule (source x
+// midpoint transmittance x dt) overshoots where a step is optically thick, as
+// the long grazing steps near the horizon are: the sky just above the horizon
+// came out brighter than the ground just below (a 1.1/255 seam at 10 km).
+// Under x = 1e-3 a series keeps float precision.
+ATMO_FN vec3 step_transmittance_integral(IN(vec3) sigma_t, float dt, IN(vec3) step_transmittance) {
+  vec3 x = sigma_t * dt;
+  vec3 series = vec3(1.0f) - x * (0.5f - x * (1.0f / 6.0f));
+  vec3 exact = (vec3(1.0f) - step_transmittance) / max(x, vec3(1e-30f));
+  return dt * mix(exact, series, lessThan(x, vec3(1e-3f)));
+}
+
 // Integrates scattered light (single scattering of Rayleigh + Mie with their
 // phase functions, plus the isotropic multiple-scattering term sigma_s * Psi_ms)
 // from the eye along `dir` over [0, max_distance] clipped to the atmosphere,
 // with `steps` samples placed denser near the eye. Eye altitude in metres.
-// The integral of exp(-sigma_t s) over one step of length dt, with sigma_t
-// constant across the step: (1 - exp(-sigma_t dt)) / sigma_t (Hillaire 2015).
-// A midpoint rule (source x midpoint transmittance x dt) overshoots where a
-// step is optically thick, as the long grazing steps near the horizon are:
-// the sky just above the horizon came out brighter than the ground just below
-// (a 1.1/255 seam at 10 km). Under x = 1e-3 a series keeps float precision.
-ATMO_FN vec3 step_transmittance_integral(IN(vec3) sigma_t, float dt) {
-  vec3 x = sigma_t * dt;
-  vec3 series = vec3(1.0f) - x * (0.5f - x * (1.0f / 6.0f));
-  vec3 exact = (vec3(1.0f) - exp(-x)) / max(x, vec3(1e-30f));
-  return dt * mix(exact, series, lessThan(x, vec3(1e-3f)));
-}
-
 ATMO_FN ScatteringResult integrate_scattering(IN(AtmosphereParameters) atm, LUT2D lut, IN(vec2) lut_size,
                                               LUT2D ms_lut, IN(vec2) ms_size, float eye_altitude_m, IN(vec3) dir,
                                               IN(vec3) sun_dir, float max_distance, int steps) {
@@ -264,7 +266,7 @@ ATMO_FN ScatteringResult integrate_scattering(IN(AtmosphereParameters) atm, LUT2
   float phase_r = rayleigh_phase(cos_theta);
   float phase_m = mie_phase(atm.mie_g, cos_theta);
 
-  vec3 optical_depth = vec3(0.0f);
+  vec3 transmittance = vec3(1.0f);  // eye to the start of the current step
   float t_prev = t_start;
   float span = t_end - t_start;
   for (int i = 0; i < steps; ++i) {
@@ -285,16 +287,17 @@ ATMO_FN ScatteringResult integrate_scattering(IN(AtmosphereParameters) atm, LUT2
     vec3 sigma_t = atm.rayleigh_scattering * rd + atm.mie_extinction * md +
                    atm.ozone_absorption * ozone_density(atm, altitude);
 
-    vec3 t_view = exp(-optical_depth);  // eye to the start of the step
+    vec3 step_transmittance = exp(-sigma_t * dt);
     float mu_s = dot(p, sun_dir) / r;
     vec3 t_sun = transmittance_to_sun(atm, lut, lut_size, r, mu_s);
     vec3 scatter = atm.rayleigh_scattering * (rd * phase_r) + atm.mie_scattering * (md * phase_m);
     vec3 sigma_s = atm.rayleigh_scattering * rd + atm.mie_scattering * md;
     vec3 psi_ms = sample_lut(ms_lut, multiple_scattering_uv(atm, r, mu_s, ms_size));
-    result.inscattered += t_view * (t_sun * scatter + sigma_s * psi_ms) * step_transmittance_integral(sigma_t, dt);
-    optical_depth += sigma_t * dt;
+    result.inscattered += transmittance * (t_sun * scatter + sigma_s * psi_ms) *
+                          step_transmittance_integral(sigma_t, dt, step_transmittance);
+    transmittance *= step_transmittance;
   }
-  result.transmittance = exp(-optical_depth);
+  result.transmittance = transmittance;
   result.inscattered *= atm.sun_illuminance_lux;
   return result;
 }

@@ -36,10 +36,10 @@ TEST(TableBuildControl, ProgressAfterEveryRowEndingAtOneAndTheSameTable) {
   EXPECT_TRUE(same(t, core::compute_transmittance_table(atm, 64, 16, 64)));
 
   seen.clear();
-  twin::Lut2D ms = core::compute_multiple_scattering_table(atm, t, 8, 8, 8, control);
+  twin::Lut2D ms = core::compute_multiple_scattering_table(atm, t, 8, 8, 8, 8, control);
   ASSERT_EQ(seen.size(), 8u);
   EXPECT_EQ(seen.back(), 1.0);
-  EXPECT_TRUE(same(ms, core::compute_multiple_scattering_table(atm, t, 8, 8, 8)));
+  EXPECT_TRUE(same(ms, core::compute_multiple_scattering_table(atm, t, 8, 8, 8, 8)));
 }
 
 TEST(TableBuildControl, AStopFlagEndsTheBuildBeforeTheNextRow) {
@@ -61,7 +61,7 @@ TEST(TableBuildControl, AStopFlagEndsTheBuildBeforeTheNextRow) {
   twin::Lut2D full = core::compute_transmittance_table(atm, 64, 16, 64);
   rows = 0;
   stop = false;
-  twin::Lut2D ms = core::compute_multiple_scattering_table(atm, full, 8, 8, 8, control);
+  twin::Lut2D ms = core::compute_multiple_scattering_table(atm, full, 8, 8, 8, 8, control);
   EXPECT_EQ(rows, 2);  // 2 of 8 rows
   EXPECT_EQ(ms.width, 0);
 

@@ -219,10 +219,10 @@ TEST(TableWorker, FirstUseBuildsOnTheCallingThreadWithProgressInTheLog) {
             1)
       << host.log.dump();
   EXPECT_EQ(host.log.count("atmo: transmittance 256x64 ... done in", ATMO_LOG_INFO), 1) << host.log.dump();
-  EXPECT_EQ(host.log.count("atmo: multiple scattering 32x32 ... done in", ATMO_LOG_INFO), 1) << host.log.dump();
+  EXPECT_EQ(host.log.count("atmo: multiple scattering 64x32 ... done in", ATMO_LOG_INFO), 1) << host.log.dump();
   for (const char* quarter : {"25 %", "50 %", "75 %"}) {
     EXPECT_EQ(host.log.count(std::string("atmo: transmittance 256x64: ") + quarter, ATMO_LOG_DEBUG), 1);
-    EXPECT_EQ(host.log.count(std::string("atmo: multiple scattering 32x32: ") + quarter, ATMO_LOG_DEBUG), 1);
+    EXPECT_EQ(host.log.count(std::string("atmo: multiple scattering 64x32: ") + quarter, ATMO_LOG_DEBUG), 1);
   }
   EXPECT_TRUE(host.log.all_on(std::this_thread::get_id()));
   std::printf("%s", host.log.dump().c_str());
@@ -280,8 +280,8 @@ TEST(TableWorker, FramesKeepTheOldTablesWhileTheWorkerIsHeldThenTheNextCallSwaps
   EXPECT_EQ(host.log.count("atmo: building atmosphere tables (visibility 5000 m", ATMO_LOG_INFO), 1) << host.log.dump();
   EXPECT_EQ(host.log.count("on a worker thread; frames keep the current air until they are ready"), 1);
   EXPECT_EQ(host.log.count("atmo: transmittance 256x64 ... done in", ATMO_LOG_INFO), 2);
-  EXPECT_EQ(host.log.count("atmo: multiple scattering 32x32 ... done in", ATMO_LOG_INFO), 2);
-  EXPECT_EQ(host.log.count("atmo: multiple scattering 32x32: 75 %", ATMO_LOG_DEBUG), 2);
+  EXPECT_EQ(host.log.count("atmo: multiple scattering 64x32 ... done in", ATMO_LOG_INFO), 2);
+  EXPECT_EQ(host.log.count("atmo: multiple scattering 64x32: 75 %", ATMO_LOG_DEBUG), 2);
   EXPECT_EQ(host.log.count("atmo: atmosphere tables (" + atmo::abi::describe(host.inside().lut_key) +
                                ") in use from this call, built in ",
                            ATMO_LOG_INFO),
