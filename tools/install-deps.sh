@@ -10,7 +10,7 @@ PACKAGES=(
   libopenexr-dev libpng-dev
   nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libgeographiclib-dev liberfa-dev
+  libgeographiclib-dev liberfa-dev libnova-dev
   libvtk9-dev libopenvdb-dev libboost-iostreams-dev
   openimageio-tools binutils
   colord-data

@@ -1,10 +1,13 @@
 // atmo — the command-line tool: render scenarios through the real plugin,
-// validate a plugin build against the ABI contract.
+// validate a plugin build against the ABI contract, compare renders, print
+// the ephemeris.
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <string>
 
 #include "compare_command.h"
+#include "ephemeris_command.h"
 #include "render_command.h"
 #include "validator.h"
 
@@ -48,8 +51,45 @@ int main(int argc, char** argv) {
                           "EXR: luminance floor (cd/m^2) of the relative error's denominator")
       ->capture_default_str();
 
-  CLI11_PARSE(app, argc, argv);
+  atmo::ephemeris::Options ephemeris;
+  ephemeris.catalog_path = ATMO_DEFAULT_STAR_CATALOG;
+  CLI::App* ephemeris_cmd = app.add_subcommand(
+      "ephemeris", "Topocentric apparent places of the Sun, the Moon, Mercury..Saturn (and a catalog star) for an "
+                   "observer and a UTC time: azimuth, elevation with and without refraction, distance, RA/Dec, "
+                   "magnitude, illuminated fraction, phase, bright limb; the time scales used (docs/EPHEMERIS.md). "
+                   "Bad input exits with 2");
+  ephemeris_cmd->add_option("--lat", ephemeris.latitude_deg, "Geodetic latitude, degrees north (WGS84)")->required();
+  ephemeris_cmd->add_option("--lon", ephemeris.longitude_deg, "Longitude, degrees east")->required();
+  ephemeris_cmd->add_option("--height", ephemeris.height_m, "Height above the WGS84 ellipsoid, metres")
+      ->capture_default_str();
+  ephemeris_cmd->add_option("--utc", ephemeris.utc, "Time, ISO 8601: 2024-12-15T03:00:00Z or with +hh:mm")
+      ->required();
+  ephemeris_cmd->add_option("--dut1", ephemeris.dut1_s, "UT1 - UTC in seconds (|DUT1| <= 0.9)")
+      ->capture_default_str();
+  ephemeris_cmd->add_option("--delta-t", ephemeris.delta_t_s, "TT - UT1 in seconds, replacing the leap-second "
+                                                               "table / Espenak-Meeus model");
+  ephemeris_cmd->add_flag("--json", ephemeris.json, "Print JSON instead of a table");
+  CLI::Option* star_hd =
+      ephemeris_cmd->add_option("--star", ephemeris.star_hd, "Also a catalog star, by its HD number (e.g. 48915: Sirius)");
+  ephemeris_cmd->add_option("--star-name", ephemeris.star_name, "Also a catalog star, by its proper name")
+      ->excludes(star_hd);
+  ephemeris_cmd->add_option("--catalog", ephemeris.catalog_path, "Star catalog")->capture_default_str();
+  ephemeris_cmd->add_flag("--no-refraction", ephemeris.no_refraction, "Refracted elevation = geometric elevation");
+  ephemeris_cmd->add_option("--pressure", ephemeris.pressure_hpa,
+                            "Air pressure at the observer for refraction, hPa (default: standard atmosphere)");
+  ephemeris_cmd->add_option("--temperature", ephemeris.temperature_c,
+                            "Air temperature at the observer for refraction, °C (default: standard atmosphere)");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    // `atmo ephemeris` promises exit code 2 for any bad input.
+    const bool ephemeris_args = argc > 1 && std::string(argv[1]) == "ephemeris";
+    return ephemeris_args && code != 0 ? 2 : code;
+  }
   if (*compare_cmd) return atmo::compare::run_compare(compare);
+  if (*ephemeris_cmd) return atmo::ephemeris::run_ephemeris(ephemeris);
 
   if (*validate_cmd) return atmo::validate::run_validation(validate) == 0 ? 0 : 1;
   if (*render_cmd) return atmo::render::run_render(render);
