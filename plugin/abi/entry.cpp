@@ -387,6 +387,21 @@ AtmoResult get_lighting(AtmoView view_handle, AtmoLighting* out) {
     glm::vec3 t = atmo::twin::transmittance_to_sun(atm, ctx->lut, glm::vec2(ctx->lut.width, ctx->lut.height), r,
                                                    static_cast<float>(enu.z));
     for (int i = 0; i < 3; ++i) l.sun_illuminance_lux[i] = static_cast<double>(atm.sun_illuminance_lux[i] * t[i]);
+    // The Moon: the same transmittance table along its direction (0 where the ray meets the Earth).
+    const atmo::core::SkyBodies& bodies = scene.bodies;
+    const glm::dvec3 moon_ecef = view->eye.ecef_from_enu * bodies.moon_enu;
+    const glm::vec3 moon_t = atmo::twin::transmittance_to_sun(atm, ctx->lut, glm::vec2(ctx->lut.width, ctx->lut.height),
+                                                              r, static_cast<float>(bodies.moon_enu.z));
+    for (int i = 0; i < 3; ++i) {
+      l.moon_direction_ecef[i] = moon_ecef[i];
+      l.moon_direction_enu[i] = bodies.moon_enu[i];
+      l.moon_illuminance_lux[i] = bodies.moon_illuminance_rgb_lux[i] * static_cast<double>(moon_t[i]);
+    }
+    l.moon_elevation_rad = std::asin(glm::clamp(bodies.moon_enu.z, -1.0, 1.0));
+    const double moon_azimuth = std::atan2(bodies.moon_enu.x, bodies.moon_enu.y);
+    l.moon_azimuth_rad = moon_azimuth < 0.0 ? moon_azimuth + 2.0 * M_PI : moon_azimuth;
+    l.moon_illuminated_fraction = bodies.moon_illuminated_fraction;
+    l.moon_phase_angle_rad = bodies.moon_phase_angle_rad;
     // Sky light: ~2 ms of CPU, so only when the sun, the altitude or the air changed enough.
     constexpr double kSkyLightingSunStepRad = 0.1 * M_PI / 180.0;
     const bool stale = !view->have_sky_lighting || view->sky_lighting_lut_version != ctx->lut_version ||

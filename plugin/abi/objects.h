@@ -12,6 +12,7 @@
 #include "atmo/atmo.h"
 #include "core/atmosphere_model.h"
 #include "core/eye_frame.h"
+#include "core/sky_bodies.h"
 #include "core/sky_lighting.h"
 #include "gl/renderer.h"
 
@@ -56,6 +57,8 @@ struct AtmoView_T {
   bool have_state = false;
   AtmoViewState state{};
   atmo::core::EyeFrame eye;
+  // The Sun and the Moon at this view's eye, reused while good to 1.5".
+  atmo::core::SkyBodiesCache sky_bodies;
 
   // Sky light for get_lighting, recomputed when the sun moves more than
   // kSkyLightingSunStepRad, the eye's altitude changes by more than 1 % (+ 10 m)

@@ -1,6 +1,7 @@
 #include "abi/scene_inputs.h"
 
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -55,13 +56,20 @@ void update_tables(AtmoContext_T* c, const TableKey& wanted) {
 
 }  // namespace
 
-core::Scene prepare_scene(AtmoContext_T* c, const AtmoView_T& view) {
-  core::Scene s = core::make_scene(c->atmosphere, c->utc_posix_s, c->dut1_s, view.eye);
+core::Scene prepare_scene(AtmoContext_T* c, AtmoView_T& view) {
+  // set_frame and set_view validated the time and the eye, so the ephemeris
+  // cannot fail here; should it, the low-precision Sun keeps the sky drawn.
+  std::string error;
+  std::optional<core::SkyBodies> found =
+      view.sky_bodies.get(c->utc_posix_s, c->dut1_s, view.eye.eye, view.eye.eye_ecef_m, &error);
+  if (!found) c->services.log(ATMO_LOG_WARNING, "atmo: ephemeris: " + error + "; using the low-precision Sun");
+  const core::SkyBodies bodies = found ? *found : core::low_precision_sky_bodies(c->utc_posix_s, c->dut1_s, view.eye);
+  core::Scene s = core::make_scene(c->atmosphere, bodies, view.eye);
   update_tables(c, table_key(c->atmosphere, s.sphere_radius_m));
   if (c->lut_key != c->lut_wanted) {
     // The new tables are being built: draw and light with the air (and the
     // model sphere) the tables in use were made for, so everything agrees with them.
-    s = core::make_scene(c->lut_key.settings(), c->utc_posix_s, c->dut1_s, view.eye);
+    s = core::make_scene(c->lut_key.settings(), bodies, view.eye);
     if (s.sphere_radius_m != c->lut_key.radius_m) {
       s.sphere_radius_m = c->lut_key.radius_m;
       s.atmosphere.bottom_radius_m = static_cast<float>(c->lut_key.radius_m);
@@ -82,7 +90,7 @@ void air_changed(AtmoContext_T* c) noexcept {
   }
 }
 
-void wait_for_tables(AtmoContext_T* c, const AtmoView_T* view) {
+void wait_for_tables(AtmoContext_T* c, AtmoView_T* view) {
   if (view && view->have_state && c->have_frame) prepare_scene(c, *view);
   c->table_worker.wait_idle();
   if (c->lut_version != 0) {

@@ -16,7 +16,7 @@ namespace atmo::abi {
 // the passes and get_lighting stay consistent with them). A finished build is
 // swapped in here, on the host's thread (bumping lut_version), and the
 // worker's progress lines are logged here.
-core::Scene prepare_scene(AtmoContext_T* context, const AtmoView_T& view);
+core::Scene prepare_scene(AtmoContext_T* context, AtmoView_T& view);
 
 // set_atmosphere changed context->atmosphere: start building its tables now
 // (at the sphere of the last view), before the next frame asks. No-op before
@@ -29,7 +29,7 @@ void air_changed(AtmoContext_T* context) noexcept;
 // a state, on a context with a frame), first asks for the tables of that view's
 // sphere, as its next render would; without one, waits for the tables asked for
 // last (set_atmosphere or the last render / get_lighting).
-void wait_for_tables(AtmoContext_T* context, const AtmoView_T* view = nullptr);
+void wait_for_tables(AtmoContext_T* context, AtmoView_T* view = nullptr);
 
 // destroy_context: cancels the running build (checked per table row), joins the
 // worker and logs its last lines. The context's destructor also joins.

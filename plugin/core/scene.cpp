@@ -2,21 +2,39 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "core/solar_position.h"
 
 namespace atmo::core {
 
-Scene make_scene(const AtmosphereSettings& settings, double utc_posix_s, double dut1_s, const EyeFrame& eye) {
+Scene make_scene(const AtmosphereSettings& settings, const SkyBodies& bodies, const EyeFrame& eye) {
   Scene s;
   s.sphere_radius_m =
       std::round(local_earth_radius_m(eye.eye.latitude_deg) / kSphereRadiusQuantumM) * kSphereRadiusQuantumM;
-  SunPosition sun = solar_position(utc_posix_s, dut1_s);
-  s.atmosphere = make_atmosphere_parameters(settings, s.sphere_radius_m, sun.distance_au);
-  s.sun_direction_ecef = sun.direction_ecef;
-  s.sun_direction_enu = enu_from_ecef_direction(eye, sun.direction_ecef);
+  s.atmosphere = make_atmosphere_parameters(settings, s.sphere_radius_m, bodies.sun_distance_au);
+  s.sun_direction_enu = bodies.sun_enu;
+  s.sun_direction_ecef = eye.ecef_from_enu * bodies.sun_enu;
   s.eye_altitude_m = std::max(eye.eye.height_m, 1.0);
+  s.bodies = bodies;
   return s;
+}
+
+SkyBodies low_precision_sky_bodies(double utc_posix_s, double dut1_s, const EyeFrame& eye) {
+  SkyBodies b;
+  SunPosition sun = solar_position(utc_posix_s, dut1_s);
+  b.sun_enu = enu_from_ecef_direction(eye, sun.direction_ecef);
+  b.sun_distance_au = sun.distance_au;
+  b.moon_enu = glm::dvec3(0.0, 0.0, -1.0);
+  b.moon_illuminance_rgb_lux = glm::dvec3(0.0);
+  b.note = "the ephemeris failed: low-precision Sun, no Moon";
+  return b;
+}
+
+Scene make_scene(const AtmosphereSettings& settings, double utc_posix_s, double dut1_s, const EyeFrame& eye) {
+  std::string error;
+  std::optional<SkyBodies> bodies = compute_sky_bodies(utc_posix_s, dut1_s, eye.eye, &error);
+  return make_scene(settings, bodies ? *bodies : low_precision_sky_bodies(utc_posix_s, dut1_s, eye), eye);
 }
 
 }  // namespace atmo::core

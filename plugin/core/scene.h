@@ -1,11 +1,12 @@
 // scene.h — the per-view numbers every pass needs, from the world state and
-// the eye: atmosphere parameters on the sphere under the eye, the sun in ENU
-// at the eye and the eye's altitude. Pure; the GL passes and the CPU twin
-// tests call the same function.
+// the eye: atmosphere parameters on the sphere under the eye, the Sun and the
+// Moon in ENU at the eye (core/sky_bodies.h) and the eye's altitude. Pure;
+// the GL passes and the CPU twin tests call the same function.
 #pragma once
 
 #include "core/atmosphere_model.h"
 #include "core/eye_frame.h"
+#include "core/sky_bodies.h"
 
 namespace atmo::core {
 
@@ -15,12 +16,21 @@ struct Scene {
   glm::dvec3 sun_direction_ecef{0.0, 0.0, 1.0};
   glm::dvec3 sun_direction_enu{0.0, 0.0, 1.0};
   double eye_altitude_m = 1.0;               // above the sphere, clamped to >= 1 m
+  SkyBodies bodies;                          // the Sun and the Moon (sun_direction_* repeat its Sun)
 };
 
 // The sphere radius is rounded to 10 km (0.16 %) so channels at nearby
 // latitudes share one transmittance table.
 constexpr double kSphereRadiusQuantumM = 10000.0;
 
+Scene make_scene(const AtmosphereSettings& settings, const SkyBodies& bodies, const EyeFrame& eye);
+
+// The same with the bodies computed here (uncached; ~0.3 ms). Should the
+// ephemeris reject the time, the Sun falls back to the low-precision formula
+// of core/solar_position.h and the Moon is put below the horizon.
 Scene make_scene(const AtmosphereSettings& settings, double utc_posix_s, double dut1_s, const EyeFrame& eye);
+
+// The fallback above, also for a cache that failed.
+SkyBodies low_precision_sky_bodies(double utc_posix_s, double dut1_s, const EyeFrame& eye);
 
 }  // namespace atmo::core

@@ -24,7 +24,7 @@ TEST(StructLayout, Version1SizesAreFrozen) {
   EXPECT_EQ(sizeof(AtmoPassInfo), V1Size<AtmoPassInfo>::value);
   // AtmoLighting grew at its end (sky light); hosts with the 104-byte layout keep working.
   EXPECT_EQ(V1Size<AtmoLighting>::value, 104u);
-  EXPECT_EQ(sizeof(AtmoLighting), 392u);
+  EXPECT_EQ(sizeof(AtmoLighting), 496u);  // 392 before the Moon's fields
 }
 
 TEST(StructLayout, Version1OffsetsAreFrozen) {
@@ -43,5 +43,8 @@ TEST(StructLayout, Version1OffsetsAreFrozen) {
   EXPECT_EQ(offsetof(AtmoLighting, sky_irradiance_sh9), 104u);
   EXPECT_EQ(offsetof(AtmoLighting, sky_average_radiance), 344u);
   EXPECT_EQ(offsetof(AtmoLighting, aerial_inscatter_texture), 368u);
+  EXPECT_EQ(offsetof(AtmoLighting, moon_direction_ecef), 392u);
+  EXPECT_EQ(offsetof(AtmoLighting, moon_illuminance_lux), 456u);
+  EXPECT_EQ(offsetof(AtmoLighting, moon_phase_angle_rad), 488u);
   EXPECT_EQ(offsetof(AtmoViewState, sky_view_table_size), 416u);
 }

@@ -360,7 +360,7 @@ typedef struct AtmoLighting {
   AtmoStructHeader header;        /* ATMO_TYPE_LIGHTING; the host sets header, the plugin fills the rest */
   double sun_direction_ecef[3];   /* unit vector from the eye towards the sun */
   double sun_direction_enu[3];    /* the same in east-north-up at the eye */
-  double sun_elevation_rad;       /* geometric elevation above the horizontal plane */
+  double sun_elevation_rad;       /* apparent (refracted) elevation above the horizontal plane */
   double sun_azimuth_rad;         /* from north, clockwise (east = pi/2) */
   double sun_illuminance_lux[3];  /* on a surface facing the sun at the eye, after the atmosphere, linear RGB */
 
@@ -390,6 +390,21 @@ typedef struct AtmoLighting {
   double aerial_range_m;
   uint32_t aerial_slices;
   uint32_t reserved;
+
+  /* The Moon as a light (added with the night sky; a host compiled with the
+     392-byte layout gets the fields above only). Positions from the
+     ephemeris (ELP 2000-82B, topocentric, refracted as seen; docs/EPHEMERIS.md),
+     the light from the measured phase law (Krisciunas & Schaefer 1991) plus
+     earthshine (docs/NIGHT_SKY.md). */
+  double moon_direction_ecef[3];    /* unit vector from the eye towards the Moon */
+  double moon_direction_enu[3];
+  double moon_elevation_rad;        /* apparent (refracted) elevation */
+  double moon_azimuth_rad;          /* from north, clockwise */
+  double moon_illuminance_lux[3];   /* on a surface facing the Moon at the eye, after the atmosphere, linear RGB;
+                                       0 when the Moon is below the horizon */
+  double moon_illuminated_fraction; /* 0 new .. 1 full */
+  double moon_phase_angle_rad;      /* Sun-Moon-eye angle: 0 full, pi new */
+  /* The sun's elevation above is apparent (refracted) too, as the sky is drawn. */
 } AtmoLighting;
 
 /* ------------------------------------------------------------------------ */

@@ -1,0 +1,280 @@
+#include "gl/night_renderer.h"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+
+#include "core/night_sky/star_photometry.h"
+#include "gl/gl_state_guard.h"
+#include "gl/shader_program.h"
+
+namespace atmo::gl {
+
+namespace {
+// The same units as Renderer's passes.
+constexpr GLuint kTransmittanceUnit = 0;
+constexpr GLuint kDepthUnit = 1;
+constexpr GLuint kMultipleScatteringUnit = 2;
+constexpr GLuint kSkyViewUnit = 3;
+constexpr int kUnitsUsed = 4;
+constexpr std::size_t kMinCapacity = 1024;
+// GL_POINT_SMOOTH: compatibility-profile state, absent from the core header.
+constexpr GLenum kPointSmooth = 0x0B10;
+
+bool check_gl(const char* what, std::string* error) {
+  GLenum e = glGetError();
+  if (e == GL_NO_ERROR) return true;
+  if (error) *error = "GL error 0x" + [e] {
+    char buf[16];
+    std::snprintf(buf, sizeof buf, "%04X", e);
+    return std::string(buf);
+  }() + " while " + what;
+  while (glGetError() != GL_NO_ERROR) {}
+  return false;
+}
+}  // namespace
+
+int NightRenderer::point_size_px() { return 2 * core::night::kStarFootprintRadiusPx + 1; }
+
+bool NightRenderer::init(std::string* error) {
+  if (initialised()) return true;
+  if (glCreateProgram == nullptr) {
+    if (error) *error = "night renderer: GL is not loaded (initialise the Renderer first)";
+    return false;
+  }
+  while (glGetError() != GL_NO_ERROR) {}
+  GlStateGuard guard(kUnitsUsed);
+  for (int m = 0; m < kMethods; ++m) {
+    if (!build(&programs_[m], static_cast<SkyMethod>(m), error)) {
+      destroy();
+      return false;
+    }
+  }
+  GLfloat range[2] = {0.0f, 0.0f};
+  glGetFloatv(GL_POINT_SIZE_RANGE, range);
+  max_point_size_ = range[1];
+  // A compatibility context has smooth (round, antialiased) points, which
+  // would cut the footprint's corners: the pass switches them off.
+  GLint profile = 0;
+  glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
+  compatibility_ = (profile & GL_CONTEXT_COMPATIBILITY_PROFILE_BIT) != 0;
+  glGenVertexArrays(1, &vao_);
+  glGenBuffers(1, &vbo_);
+  glBindVertexArray(vao_);
+  glBindBuffer(GL_ARRAY_BUFFER, vbo_);
+  constexpr GLsizei stride = sizeof(core::night::PointSource);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride,
+                        reinterpret_cast<const void*>(offsetof(core::night::PointSource, direction_enu)));
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
+                        reinterpret_cast<const void*>(offsetof(core::night::PointSource, illuminance_rgb_lux)));
+  glGenSamplers(1, &linear_sampler_);
+  glSamplerParameteri(linear_sampler_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glSamplerParameteri(linear_sampler_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glSamplerParameteri(linear_sampler_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glSamplerParameteri(linear_sampler_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glGenSamplers(1, &nearest_sampler_);
+  glSamplerParameteri(nearest_sampler_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glSamplerParameteri(nearest_sampler_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glSamplerParameteri(nearest_sampler_, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  std::string gl_error;
+  if (!check_gl("creating the night renderer's objects", &gl_error)) {
+    if (error) *error = "night renderer: " + gl_error;
+    destroy();
+    return false;
+  }
+  return true;
+}
+
+bool NightRenderer::build(Program* p, SkyMethod method, std::string* error) {
+  const std::string defines = "#define ATMO_METHOD " + std::to_string(static_cast<int>(method)) + "\n";
+  p->program = build_program("night_points.vert", "night_points.frag", defines, error);
+  if (!p->program) return false;
+  auto loc = [&](const char* name) { return glGetUniformLocation(p->program, name); };
+  p->bottom_radius = loc("u_atmosphere.bottom_radius_m");
+  p->top_radius = loc("u_atmosphere.top_radius_m");
+  p->rayleigh_scattering = loc("u_atmosphere.rayleigh_scattering");
+  p->rayleigh_scale_height = loc("u_atmosphere.rayleigh_scale_height_m");
+  p->mie_scattering = loc("u_atmosphere.mie_scattering");
+  p->mie_extinction = loc("u_atmosphere.mie_extinction");
+  p->mie_scale_height = loc("u_atmosphere.mie_scale_height_m");
+  p->mie_g = loc("u_atmosphere.mie_g");
+  p->ozone_absorption = loc("u_atmosphere.ozone_absorption");
+  p->ozone_center = loc("u_atmosphere.ozone_center_m");
+  p->ozone_half_width = loc("u_atmosphere.ozone_half_width_m");
+  p->sun_illuminance = loc("u_atmosphere.sun_illuminance_lux");
+  p->sun_angular_radius = loc("u_atmosphere.sun_angular_radius");
+  p->ground_albedo = loc("u_atmosphere.ground_albedo");
+  p->transmittance = loc("u_transmittance");
+  p->transmittance_size = loc("u_transmittance_size");
+  p->multiple_scattering = loc("u_multiple_scattering");
+  p->multiple_scattering_size = loc("u_multiple_scattering_size");
+  p->depth = loc("u_depth");
+  p->has_depth = loc("u_has_depth");
+  p->depth_convention = loc("u_depth_convention");
+  p->log_far = loc("u_log_far_m");
+  p->log_coefficient = loc("u_log_coefficient");
+  p->view_from_clip = loc("u_view_from_clip");
+  p->clip_from_view = loc("u_clip_from_view");
+  p->enu_from_view = loc("u_enu_from_view");
+  p->view_from_enu = loc("u_view_from_enu");
+  p->viewport = loc("u_viewport");
+  p->draw_viewport = loc("u_draw_viewport");
+  p->point_size = loc("u_point_size");
+  p->footprint_sigma = loc("u_footprint_sigma_px");
+  p->eye_altitude = loc("u_eye_altitude_m");
+  p->sun_direction = loc("u_sun_direction_enu");
+  p->exposure = loc("u_exposure");
+  p->output_encoding = loc("u_output_encoding");
+  p->steps = loc("u_steps");
+  p->sky_view = loc("u_sky_view");
+  p->sky_view_size = loc("u_sky_view_size");
+  p->analytic_weight = loc("u_analytic_weight");
+  const char* preetham_names[6] = {"u_preetham.A", "u_preetham.B", "u_preetham.C",
+                                   "u_preetham.D", "u_preetham.E", "u_preetham.zenith_Yxy"};
+  for (int i = 0; i < 6; ++i) p->preetham[i] = loc(preetham_names[i]);
+  return true;
+}
+
+void NightRenderer::destroy() {
+  for (Program& p : programs_)
+    if (p.program) glDeleteProgram(p.program);
+  if (vao_) glDeleteVertexArrays(1, &vao_);
+  if (vbo_) glDeleteBuffers(1, &vbo_);
+  if (linear_sampler_) glDeleteSamplers(1, &linear_sampler_);
+  if (nearest_sampler_) glDeleteSamplers(1, &nearest_sampler_);
+  forget();
+}
+
+void NightRenderer::forget() {
+  for (Program& p : programs_) p = Program{};
+  vao_ = vbo_ = linear_sampler_ = nearest_sampler_ = 0;
+  vbo_capacity_ = 0;
+  max_point_size_ = 0.0f;
+  compatibility_ = false;
+}
+
+bool NightRenderer::draw_points(const PassInputs& in, const NightSkyTextures& textures,
+                                const core::night::PointSource* sources, std::size_t count, std::string* error) {
+  if (count == 0 || sources == nullptr) return true;  // nothing to draw: no GL call
+  if (!initialised()) {
+    if (error) *error = "night renderer: not initialised";
+    return false;
+  }
+  const float point_size = static_cast<float>(point_size_px());
+  if (max_point_size_ < point_size) {
+    if (error) *error = "night renderer: the GL implementation's largest point (" + std::to_string(max_point_size_) +
+                        " px) is smaller than the star footprint (" + std::to_string(point_size) + " px)";
+    return false;
+  }
+  if (count > static_cast<std::size_t>(INT32_MAX)) count = static_cast<std::size_t>(INT32_MAX);
+  while (glGetError() != GL_NO_ERROR) {}  // errors the host left are not ours
+
+  const Program& p = programs_[static_cast<int>(in.method)];
+  const glm::mat3 view_from_enu = glm::transpose(in.enu_from_view);
+  const glm::mat4 clip_from_view = glm::mat4(glm::inverse(glm::dmat4(in.view_from_clip)));
+  const int m = kViewportMarginPx;
+  const float draw_viewport[4] = {static_cast<float>(in.viewport[0] - m), static_cast<float>(in.viewport[1] - m),
+                                  static_cast<float>(in.viewport[2] + 2 * m),
+                                  static_cast<float>(in.viewport[3] + 2 * m)};
+  const bool display = in.output_encoding == 1;
+  {
+    GlStateGuard guard(kUnitsUsed);
+    guard.use_single_draw_buffer();
+    // State the guard does not cover.
+    const GLboolean program_point_size = glIsEnabled(GL_PROGRAM_POINT_SIZE);
+    const GLboolean point_smooth = compatibility_ ? glIsEnabled(kPointSmooth) : GL_FALSE;
+    GLint scissor_box[4] = {0, 0, 0, 0};
+    glGetIntegerv(GL_SCISSOR_BOX, scissor_box);
+
+    // The sources, streamed (the buffer is orphaned every frame).
+    glBindBuffer(GL_ARRAY_BUFFER, vbo_);
+    if (count > vbo_capacity_) {
+      vbo_capacity_ = std::max({count, 2 * vbo_capacity_, kMinCapacity});
+      ++counters_.buffer_reallocations;
+    }
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vbo_capacity_ * sizeof(core::night::PointSource)), nullptr,
+                 GL_STREAM_DRAW);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(count * sizeof(core::night::PointSource)), sources);
+
+    glUseProgram(p.program);
+    const auto& a = in.atmosphere;
+    glUniform1f(p.bottom_radius, a.bottom_radius_m);
+    glUniform1f(p.top_radius, a.top_radius_m);
+    glUniform3fv(p.rayleigh_scattering, 1, glm::value_ptr(a.rayleigh_scattering));
+    glUniform1f(p.rayleigh_scale_height, a.rayleigh_scale_height_m);
+    glUniform3fv(p.mie_scattering, 1, glm::value_ptr(a.mie_scattering));
+    glUniform3fv(p.mie_extinction, 1, glm::value_ptr(a.mie_extinction));
+    glUniform1f(p.mie_scale_height, a.mie_scale_height_m);
+    glUniform1f(p.mie_g, a.mie_g);
+    glUniform3fv(p.ozone_absorption, 1, glm::value_ptr(a.ozone_absorption));
+    glUniform1f(p.ozone_center, a.ozone_center_m);
+    glUniform1f(p.ozone_half_width, a.ozone_half_width_m);
+    glUniform3fv(p.sun_illuminance, 1, glm::value_ptr(a.sun_illuminance_lux));
+    glUniform1f(p.sun_angular_radius, a.sun_angular_radius);
+    glUniform3fv(p.ground_albedo, 1, glm::value_ptr(a.ground_albedo));
+    glUniform1i(p.transmittance, static_cast<GLint>(kTransmittanceUnit));
+    glUniform2fv(p.transmittance_size, 1, glm::value_ptr(textures.transmittance_size));
+    glUniform1i(p.multiple_scattering, static_cast<GLint>(kMultipleScatteringUnit));
+    glUniform2fv(p.multiple_scattering_size, 1, glm::value_ptr(textures.multiple_scattering_size));
+    glUniform1i(p.depth, static_cast<GLint>(kDepthUnit));
+    glUniform1i(p.has_depth, in.depth_texture != 0 ? 1 : 0);
+    glUniform1i(p.depth_convention, in.depth_convention);
+    glUniform1f(p.log_far, in.log_far_m);
+    glUniform1f(p.log_coefficient, in.log_coefficient);
+    glUniformMatrix4fv(p.view_from_clip, 1, GL_FALSE, glm::value_ptr(in.view_from_clip));
+    glUniformMatrix4fv(p.clip_from_view, 1, GL_FALSE, glm::value_ptr(clip_from_view));
+    glUniformMatrix3fv(p.enu_from_view, 1, GL_FALSE, glm::value_ptr(in.enu_from_view));
+    glUniformMatrix3fv(p.view_from_enu, 1, GL_FALSE, glm::value_ptr(view_from_enu));
+    glUniform4f(p.viewport, static_cast<float>(in.viewport[0]), static_cast<float>(in.viewport[1]),
+                static_cast<float>(in.viewport[2]), static_cast<float>(in.viewport[3]));
+    glUniform4fv(p.draw_viewport, 1, draw_viewport);
+    glUniform1f(p.point_size, point_size);
+    glUniform1f(p.footprint_sigma, static_cast<float>(core::night::kStarFootprintSigmaPx));
+    glUniform1f(p.eye_altitude, in.eye_altitude_m);
+    glUniform3fv(p.sun_direction, 1, glm::value_ptr(in.sun_direction_enu));
+    glUniform1f(p.exposure, in.exposure);
+    glUniform1i(p.output_encoding, in.output_encoding);
+    glUniform1i(p.steps, in.lut.march_sky_steps);
+    glUniform1i(p.sky_view, static_cast<GLint>(kSkyViewUnit));
+    glUniform2fv(p.sky_view_size, 1, glm::value_ptr(textures.sky_view_size));
+    glUniform1f(p.analytic_weight, in.analytic_weight);
+    const glm::vec3* c[6] = {&in.preetham.A, &in.preetham.B, &in.preetham.C,
+                             &in.preetham.D, &in.preetham.E, &in.preetham.zenith_Yxy};
+    for (int i = 0; i < 6; ++i) glUniform3fv(p.preetham[i], 1, glm::value_ptr(*c[i]));
+
+    auto bind = [](GLuint unit, GLuint texture, GLuint sampler) {
+      glActiveTexture(GL_TEXTURE0 + unit);
+      glBindTexture(GL_TEXTURE_2D, texture);
+      glBindSampler(unit, sampler);
+    };
+    bind(kTransmittanceUnit, textures.transmittance, linear_sampler_);
+    bind(kDepthUnit, in.depth_texture, nearest_sampler_);
+    bind(kMultipleScatteringUnit, display ? textures.multiple_scattering : 0, linear_sampler_);
+    bind(kSkyViewUnit, display ? textures.sky_view : 0, linear_sampler_);
+
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    if (point_smooth) glDisable(kPointSmooth);
+    glViewport(in.viewport[0] - m, in.viewport[1] - m, in.viewport[2] + 2 * m, in.viewport[3] + 2 * m);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(in.viewport[0], in.viewport[1], in.viewport[2], in.viewport[3]);
+    glEnablei(GL_BLEND, 0);
+    if (display) set_blend_of_buffer0(GL_ONE, GL_ONE, GL_ONE, GL_ONE, GL_MAX, GL_MAX);
+    else set_blend_of_buffer0(GL_ONE, GL_ONE, GL_ZERO, GL_ONE, GL_FUNC_ADD, GL_FUNC_ADD);
+    glBindVertexArray(vao_);
+    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(count));
+
+    if (!program_point_size) glDisable(GL_PROGRAM_POINT_SIZE);
+    if (point_smooth) glEnable(kPointSmooth);
+    glScissor(scissor_box[0], scissor_box[1], scissor_box[2], scissor_box[3]);
+  }
+  ++counters_.draws;
+  counters_.sources_drawn += count;
+  return check_gl("drawing the night sky's point sources", error);
+}
+
+}  // namespace atmo::gl

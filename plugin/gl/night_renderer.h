@@ -1,0 +1,108 @@
+// night_renderer.h — the GL layer of the night sky's point sources (stars
+// and planets, core/night_sky/point_sources.h): draws a list of PointSource
+// into the bound framebuffer, as GL_POINTS, one vertex per source
+// (shaders/night_points.vert, .frag). Per source, on the GPU: the projection
+// through the host's camera, the atmosphere's transmittance along the line of
+// sight (transmittance table; hidden behind the Earth), the solid angle of a
+// pixel there; per pixel: the integrated-Gaussian footprint
+// (shaders/night_sky/point_footprint.glsl, the core's star_footprint_weight),
+// so L_pixel = E · T · weight / Omega_pixel and a source's total light does
+// not depend on where it falls. Only where the host's depth is at the far
+// plane. LINEAR_HDR adds exposure · L (blend ONE, ONE); DISPLAY_SRGB writes
+// encode(exposure · (L_sky + L)) with the sky re-evaluated per pixel as the
+// sky pass does, blended with MAX (docs/NIGHT_SKY.md, "Rendering: point
+// sources"). An empty list costs nothing: no GL call at all.
+//
+// Needs GL 3.3 loaded through glad (Renderer::init does it) and the context
+// current; state is saved and restored (GlStateGuard, plus the program point
+// size switch, the scissor box and, in a compatibility context, point
+// smoothing, which the guard does not cover).
+#pragma once
+
+#include <glad/gl.h>
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "core/night_sky/point_sources.h"
+#include "gl/renderer.h"
+
+namespace atmo::gl {
+
+// The tables the pass samples; names owned by the caller (the Renderer).
+struct NightSkyTextures {
+  // Always: the transmittance table (RGB32F, as Renderer::upload_tables).
+  GLuint transmittance = 0;
+  glm::vec2 transmittance_size{1.0f};
+  // DISPLAY_SRGB only, to re-evaluate the sky under a source as sky.frag
+  // does: the sky-view table of this frame (LUT, and ANALYTIC while
+  // analytic_weight < 1) — the one Renderer::draw_sky built for the same
+  // PassInputs — or the multiple-scattering table (MARCH).
+  GLuint sky_view = 0;
+  glm::vec2 sky_view_size{1.0f};
+  GLuint multiple_scattering = 0;
+  glm::vec2 multiple_scattering_size{1.0f};
+};
+
+class NightRenderer {
+ public:
+  // Builds the programs (one per SkyMethod), the vertex buffer and array.
+  // GL must be loaded (after Renderer::init) and current.
+  bool init(std::string* error);
+  void destroy();  // deletes GL objects (context current)
+  void forget();   // drops GL names without GL calls (context lost)
+  bool initialised() const { return programs_[0].program != 0; }
+
+  // Draws `count` sources into the bound draw framebuffer with the view of
+  // `in` (camera, viewport, host depth, exposure, output encoding, method,
+  // atmosphere, eye altitude, sun). count == 0: returns true without any GL
+  // call. False and *error on a GL error (state restored either way).
+  bool draw_points(const PassInputs& in, const NightSkyTextures& textures, const core::night::PointSource* sources,
+                   std::size_t count, std::string* error);
+  bool draw_points(const PassInputs& in, const NightSkyTextures& textures,
+                   const std::vector<core::night::PointSource>& sources, std::string* error) {
+    return draw_points(in, textures, sources.data(), sources.size(), error);
+  }
+
+  // GL discards a point whose centre is outside the viewport, which would
+  // drop the light a source just outside the edge puts on the edge pixels
+  // (a pop as it crosses the edge): the pass draws with the host's viewport
+  // grown by this margin and scissors to the host's viewport, so nothing is
+  // written outside it.
+  static constexpr int kViewportMarginPx = 4;
+  // Side of the point square, pixels: 2 R + 1.
+  static int point_size_px();
+
+  struct Counters {
+    uint64_t draws = 0;            // draw_points calls that drew
+    uint64_t sources_drawn = 0;    // vertices submitted
+    uint64_t buffer_reallocations = 0;
+  };
+  const Counters& counters() const { return counters_; }
+
+ private:
+  struct Program {
+    GLuint program = 0;
+    GLint bottom_radius, top_radius, rayleigh_scattering, rayleigh_scale_height, mie_scattering, mie_extinction,
+        mie_scale_height, mie_g, ozone_absorption, ozone_center, ozone_half_width, sun_illuminance,
+        sun_angular_radius, ground_albedo;
+    GLint transmittance, transmittance_size, multiple_scattering, multiple_scattering_size, depth, has_depth,
+        depth_convention, log_far, log_coefficient, view_from_clip, clip_from_view, enu_from_view, view_from_enu,
+        viewport, draw_viewport, point_size, footprint_sigma, eye_altitude, sun_direction, exposure,
+        output_encoding, steps, sky_view, sky_view_size, analytic_weight;
+    GLint preetham[6];
+  };
+  bool build(Program* p, SkyMethod method, std::string* error);
+
+  static constexpr int kMethods = 3;
+  Program programs_[kMethods];
+  GLuint vao_ = 0, vbo_ = 0, linear_sampler_ = 0, nearest_sampler_ = 0;
+  std::size_t vbo_capacity_ = 0;  // sources
+  float max_point_size_ = 0.0f;
+  bool compatibility_ = false;  // compatibility profile: GL_POINT_SMOOTH exists and is switched off while drawing
+  Counters counters_;
+};
+
+}  // namespace atmo::gl
