@@ -29,6 +29,8 @@
 #include "core/night_sky/point_sources.h"
 #include "gl/renderer.h"
 
+#include "gl/atmosphere_uniforms.h"
+
 namespace atmo::gl {
 
 // The tables the pass samples; names owned by the caller (the Renderer).
@@ -85,9 +87,7 @@ class NightRenderer {
  private:
   struct Program {
     GLuint program = 0;
-    GLint bottom_radius, top_radius, rayleigh_scattering, rayleigh_scale_height, mie_scattering, mie_extinction,
-        mie_scale_height, mie_g, ozone_absorption, ozone_center, ozone_half_width, sun_illuminance,
-        sun_angular_radius, ground_albedo;
+    AtmosphereUniforms atmosphere;
     GLint transmittance, transmittance_size, multiple_scattering, multiple_scattering_size, depth, has_depth,
         depth_convention, log_far, log_coefficient, view_from_clip, clip_from_view, enu_from_view, view_from_enu,
         viewport, draw_viewport, point_size, footprint_sigma, eye_altitude, sun_direction, exposure,

@@ -103,20 +103,7 @@ bool Renderer::build(Program* p, const char* fragment_path, SkyMethod method, st
   p->program = build_program("fullscreen.vert", fragment_path, defines, error);
   if (!p->program) return false;
   auto loc = [&](const char* name) { return glGetUniformLocation(p->program, name); };
-  p->bottom_radius = loc("u_atmosphere.bottom_radius_m");
-  p->top_radius = loc("u_atmosphere.top_radius_m");
-  p->rayleigh_scattering = loc("u_atmosphere.rayleigh_scattering");
-  p->rayleigh_scale_height = loc("u_atmosphere.rayleigh_scale_height_m");
-  p->mie_scattering = loc("u_atmosphere.mie_scattering");
-  p->mie_extinction = loc("u_atmosphere.mie_extinction");
-  p->mie_scale_height = loc("u_atmosphere.mie_scale_height_m");
-  p->mie_g = loc("u_atmosphere.mie_g");
-  p->ozone_absorption = loc("u_atmosphere.ozone_absorption");
-  p->ozone_center = loc("u_atmosphere.ozone_center_m");
-  p->ozone_half_width = loc("u_atmosphere.ozone_half_width_m");
-  p->sun_illuminance = loc("u_atmosphere.sun_illuminance_lux");
-  p->sun_angular_radius = loc("u_atmosphere.sun_angular_radius");
-  p->ground_albedo = loc("u_atmosphere.ground_albedo");
+  p->atmosphere = locate_atmosphere_uniforms(p->program);
   p->transmittance = loc("u_transmittance");
   p->transmittance_size = loc("u_transmittance_size");
   p->multiple_scattering = loc("u_multiple_scattering");
@@ -220,21 +207,7 @@ void Renderer::allocate_derived_tables() {
 }
 
 void Renderer::set_uniforms(const Program& p, const PassInputs& in, int steps) const {
-  const auto& a = in.atmosphere;
-  glUniform1f(p.bottom_radius, a.bottom_radius_m);
-  glUniform1f(p.top_radius, a.top_radius_m);
-  glUniform3fv(p.rayleigh_scattering, 1, glm::value_ptr(a.rayleigh_scattering));
-  glUniform1f(p.rayleigh_scale_height, a.rayleigh_scale_height_m);
-  glUniform3fv(p.mie_scattering, 1, glm::value_ptr(a.mie_scattering));
-  glUniform3fv(p.mie_extinction, 1, glm::value_ptr(a.mie_extinction));
-  glUniform1f(p.mie_scale_height, a.mie_scale_height_m);
-  glUniform1f(p.mie_g, a.mie_g);
-  glUniform3fv(p.ozone_absorption, 1, glm::value_ptr(a.ozone_absorption));
-  glUniform1f(p.ozone_center, a.ozone_center_m);
-  glUniform1f(p.ozone_half_width, a.ozone_half_width_m);
-  glUniform3fv(p.sun_illuminance, 1, glm::value_ptr(a.sun_illuminance_lux));
-  glUniform1f(p.sun_angular_radius, a.sun_angular_radius);
-  glUniform3fv(p.ground_albedo, 1, glm::value_ptr(a.ground_albedo));
+  set_atmosphere_uniforms(p.atmosphere, in.atmosphere);
   glUniform1i(p.transmittance, static_cast<GLint>(kTransmittanceUnit));
   glUniform2fv(p.transmittance_size, 1, glm::value_ptr(transmittance_size_));
   glUniform1i(p.multiple_scattering, static_cast<GLint>(kMultipleScatteringUnit));

@@ -20,6 +20,8 @@
 #include "core/shader_twin.h"
 #include "core/sky_view_table.h"
 
+#include "gl/atmosphere_uniforms.h"
+
 namespace atmo::gl {
 
 // Matches the METHOD_* constants of shaders/atmosphere/pass_common.glsl.
@@ -95,9 +97,7 @@ class Renderer {
   struct Program {
     GLuint program = 0;
     // Uniform locations, looked up once after linking (-1 where a shader lacks one).
-    GLint bottom_radius, top_radius, rayleigh_scattering, rayleigh_scale_height, mie_scattering, mie_extinction,
-        mie_scale_height, mie_g, ozone_absorption, ozone_center, ozone_half_width, sun_illuminance,
-        sun_angular_radius, ground_albedo;
+    AtmosphereUniforms atmosphere;
     GLint transmittance, transmittance_size, multiple_scattering, multiple_scattering_size, depth, has_depth,
         depth_convention, log_far, log_coefficient, view_from_clip, enu_from_view, viewport, eye_altitude,
         sun_direction, exposure, output_encoding, steps;

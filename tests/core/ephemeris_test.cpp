@@ -11,6 +11,8 @@
 //   (d) a stability sweep: poles, date line, heights -400 m..100 km, bodies on
 //       the horizon, the year 2100; bad input rejected with a message.
 #include <erfa.h>
+
+#include "sky_angles.h"
 #include <erfam.h>
 
 #include <algorithm>
@@ -35,14 +37,7 @@ namespace astro = atmo::core::astro;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
-constexpr double kArcsec = kDeg / 3600.0;
-
-double sep_arcsec(const glm::dvec3& a, const glm::dvec3& b) {
-  double pa[3] = {a.x, a.y, a.z}, pb[3] = {b.x, b.y, b.z};
-  return eraSepp(pa, pb) / kArcsec;
-}
+using namespace sky_angles;
 
 glm::dvec3 enu_from_az_zd(double az, double zd) {
   return {std::sin(zd) * std::sin(az), std::sin(zd) * std::cos(az), std::cos(zd)};

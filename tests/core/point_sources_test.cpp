@@ -5,6 +5,8 @@
 // 100 km, the per-frame cost, and the footprint's GLSL twin against the core.
 // Figures are printed with the prefix "[ points ]" and quoted in docs/NIGHT_SKY.md.
 #include <erfa.h>
+
+#include "sky_angles.h"
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -24,14 +26,7 @@ namespace night = atmo::core::night;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
-constexpr double kArcsec = kDeg / 3600.0;
-
-double sep_arcsec(const glm::dvec3& a, const glm::dvec3& b) {
-  double pa[3] = {a.x, a.y, a.z}, pb[3] = {b.x, b.y, b.z};
-  return eraSepp(pa, pb) / kArcsec;
-}
+using namespace sky_angles;
 
 const astro::StarCatalogLoad& catalog() {
   static const astro::StarCatalogLoad c = astro::load_star_catalog(ATMO_STAR_CATALOG_PATH);
