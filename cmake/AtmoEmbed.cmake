@@ -5,7 +5,8 @@
 # GPU and the CPU twin (which #includes the same files).
 function(atmo_embed_files target namespace base_dir)
   set(files ${ARGN})
-  set(out ${CMAKE_CURRENT_BINARY_DIR}/${target}_embedded.cpp)
+  string(REPLACE "::" "_" tag "${namespace}")
+  set(out ${CMAKE_CURRENT_BINARY_DIR}/${target}_${tag}_embedded.cpp)
   set(abs_files)
   foreach(f ${files})
     list(APPEND abs_files ${base_dir}/${f})

@@ -6,6 +6,7 @@
 #include <new>
 #include <string>
 
+#include "abi/night_sky_inputs.h"
 #include "abi/objects.h"
 #include "abi/pass_inputs.h"
 #include "abi/scene_inputs.h"
@@ -198,6 +199,7 @@ AtmoResult gl_shutdown(AtmoContext context) {
   if (!ctx) return fail(nullptr, ATMO_ERROR_INVALID_HANDLE, "gl_shutdown", "not a live context");
   return guarded(ctx, "gl_shutdown", [&]() -> AtmoResult {
     if (!ctx->gl_alive) return ATMO_SUCCESS;
+    ctx->night_renderer.destroy();
     ctx->renderer.destroy();
     ctx->gl_alive = false;
     ctx->uploaded_lut_version = 0;
@@ -209,6 +211,7 @@ AtmoResult gl_context_lost(AtmoContext context) {
   AtmoContext_T* ctx = live_context(context);
   if (!ctx) return fail(nullptr, ATMO_ERROR_INVALID_HANDLE, "gl_context_lost", "not a live context");
   ctx->renderer.forget();
+  ctx->night_renderer.forget();
   ctx->gl_alive = false;
   ctx->uploaded_lut_version = 0;
   return ATMO_SUCCESS;
@@ -314,6 +317,26 @@ AtmoResult set_view(AtmoView view_handle, const AtmoViewState* state) {
   });
 }
 
+// The night sky's stars and planets (the Moon, the moonlit sky and the faint
+// background are drawn by the sky pass). The plan already said something can show.
+AtmoResult night_sky_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core::Scene& scene,
+                          const atmo::gl::PassInputs& inputs) {
+  std::string error;
+  if (!atmo::abi::collect_night_points(ctx, *view, scene, &error)) {
+    return fail(ctx, ATMO_ERROR_INVALID_ARGUMENT, "render_pass(ATMO_PASS_NIGHT_SKY)", "astrometry: " + error);
+  }
+  if (view->night_points.empty()) return ATMO_STATUS_NOTHING_TO_DRAW;
+  if (!ctx->night_renderer.initialised() && !ctx->night_renderer.init(&error)) {
+    return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_NIGHT_SKY)", error);
+  }
+  atmo::gl::NightSkyTextures textures;
+  if (!ctx->renderer.night_sky_textures(inputs, &textures, &error) ||
+      !ctx->night_renderer.draw_points(inputs, textures, view->night_points, &error)) {
+    return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_NIGHT_SKY)", error);
+  }
+  return ATMO_SUCCESS;
+}
+
 AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
   AtmoView_T* view = live_view(view_handle, "render_pass");
   if (!view) return ATMO_ERROR_INVALID_HANDLE;
@@ -335,7 +358,6 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
 
     switch (pass.pass) {
       case ATMO_PASS_CLOUDS:
-      case ATMO_PASS_NIGHT_SKY:
       case ATMO_PASS_LIGHT_GLOWS:
         return ATMO_STATUS_NOT_YET_SUPPORTED;  // no GL work at all
       case ATMO_PASS_AERIAL_PERSPECTIVE:
@@ -344,18 +366,27 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
       default:
         break;
     }
+    atmo::core::Scene scene = atmo::abi::prepare_scene(ctx, *view);
+    atmo::gl::PassInputs inputs = atmo::abi::make_pass_inputs(scene, *view, ctx->lut, ctx->multiple_scattering);
+    if (pass.pass == ATMO_PASS_SKY || pass.pass == ATMO_PASS_NIGHT_SKY) {
+      const atmo::core::night::NightPlan& night = atmo::abi::plan_night_sky(ctx, *view, scene, inputs);
+      // Daylight: no star or planet can change a pixel, so the night pass does no work at all (no GL call).
+      if (pass.pass == ATMO_PASS_NIGHT_SKY && atmo::abi::night_points_invisible(ctx, night)) {
+        return ATMO_STATUS_NOTHING_TO_DRAW;
+      }
+      atmo::abi::add_night_terms(ctx, *view, scene, &inputs);
+    }
     if (view->state.depth_texture != 0 && !glIsTexture(view->state.depth_texture)) {
       return fail(ctx, ATMO_ERROR_INVALID_ARGUMENT, "render_pass",
                   "AtmoViewState.depth_texture = " + std::to_string(view->state.depth_texture) +
                       " is not a texture in the current GL context");
     }
-    atmo::core::Scene scene = atmo::abi::prepare_scene(ctx, *view);
     if (ctx->uploaded_lut_version != ctx->lut_version) {
       ctx->renderer.upload_tables(ctx->lut, ctx->multiple_scattering);
       ctx->uploaded_lut_version = ctx->lut_version;
     }
-    atmo::gl::PassInputs inputs = atmo::abi::make_pass_inputs(scene, *view, ctx->lut, ctx->multiple_scattering);
     std::string error;
+    if (pass.pass == ATMO_PASS_NIGHT_SKY) return night_sky_pass(ctx, view, scene, inputs);
     bool ok = pass.pass == ATMO_PASS_SKY ? ctx->renderer.draw_sky(inputs, &error)
                                          : ctx->renderer.draw_aerial_perspective(inputs, &error);
     if (!ok) return fail(ctx, ATMO_ERROR_GL, "render_pass", error);

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,9 +13,13 @@
 #include "abi/table_builder.h"
 #include "atmo/atmo.h"
 #include "core/atmosphere_model.h"
+#include "core/astro/ephemeris.h"
 #include "core/eye_frame.h"
+#include "core/night_sky/night_plan.h"
+#include "core/night_sky/point_sources.h"
 #include "core/sky_bodies.h"
 #include "core/sky_lighting.h"
+#include "gl/night_renderer.h"
 #include "gl/renderer.h"
 
 struct AtmoView_T;
@@ -47,7 +53,23 @@ struct AtmoContext_T {
   atmo::abi::TableWorker table_worker;  // joined by destroy_context (and its destructor)
 
   atmo::gl::Renderer renderer;
+  // The night sky's point pass: its programs are built by the first night
+  // pass that has something to draw (a daytime host never pays for them).
+  atmo::gl::NightRenderer night_renderer;
   bool gl_alive = false;
+  // The star catalogue prepared for drawing (9931 stars, parsed from the
+  // embedded copy of data/stars on the first night pass that draws points;
+  // ~10 ms). Null before; empty when parsing failed (star_field_error says
+  // why, and the planets are still drawn).
+  std::unique_ptr<atmo::core::night::StarField> star_field;
+  std::string star_field_error;
+  // The brightest planet's V magnitude (horizon ignored) when the night pass
+  // last computed the planets, and the UTC it was for: in daylight, when only
+  // a planet could show, the pass compares the limit with this before doing
+  // any astrometry. Planet magnitudes change by < 0.05 mag a day.
+  double brightest_planet_v = 0.0;
+  double brightest_planet_utc_posix_s = 0.0;
+  bool have_brightest_planet = false;
   std::vector<AtmoView_T*> views;
 };
 
@@ -59,6 +81,16 @@ struct AtmoView_T {
   atmo::core::EyeFrame eye;
   // The Sun and the Moon at this view's eye, reused while good to 1.5".
   atmo::core::SkyBodiesCache sky_bodies;
+
+  // The astrometry of this view's eye at the frame's time (ERFA context:
+  // Earth orientation, aberration, refraction), rebuilt when the time or the
+  // eye changes: the sky pass (background) and the night pass share it.
+  std::optional<atmo::core::astro::AstrometryFrame> astrometry;
+  double astrometry_utc_posix_s = 0.0, astrometry_dut1_s = 0.0;
+  glm::dvec3 astrometry_eye_ecef_m{0.0};
+  // The night pass's sources of the last frame (the buffer is reused) and what it decided.
+  std::vector<atmo::core::night::PointSource> night_points;
+  atmo::core::night::NightPlan night_plan;
 
   // Sky light for get_lighting, recomputed when the sun moves more than
   // kSkyLightingSunStepRad, the eye's altitude changes by more than 1 % (+ 10 m)

@@ -22,7 +22,7 @@ class GlStateGuard {
   GlStateGuard& operator=(const GlStateGuard&) = delete;
 
  private:
-  static constexpr int kMaxUnits = 6;
+  static constexpr int kMaxUnits = 8;
   static constexpr int kMaxDrawBuffers = 8;
   int units_;
   GLint program_, vao_, array_buffer_, unpack_buffer_, active_texture_;

@@ -19,7 +19,7 @@ constexpr GLuint kTransmittanceUnit = 0;
 constexpr GLuint kDepthUnit = 1;
 constexpr GLuint kMultipleScatteringUnit = 2;
 constexpr GLuint kSkyViewUnit = 3;
-constexpr int kUnitsUsed = 4;
+constexpr int kUnitsUsed = kMoonSkyViewUnit + 1;
 constexpr std::size_t kMinCapacity = 1024;
 // GL_POINT_SMOOTH: compatibility-profile state, absent from the core header.
 constexpr GLenum kPointSmooth = 0x0B10;
@@ -124,6 +124,7 @@ bool NightRenderer::build(Program* p, SkyMethod method, std::string* error) {
   const char* preetham_names[6] = {"u_preetham.A", "u_preetham.B", "u_preetham.C",
                                    "u_preetham.D", "u_preetham.E", "u_preetham.zenith_Yxy"};
   for (int i = 0; i < 6; ++i) p->preetham[i] = loc(preetham_names[i]);
+  p->night = locate_night_term_uniforms(p->program);
   return true;
 }
 
@@ -219,6 +220,10 @@ bool NightRenderer::draw_points(const PassInputs& in, const NightSkyTextures& te
     const glm::vec3* c[6] = {&in.preetham.A, &in.preetham.B, &in.preetham.C,
                              &in.preetham.D, &in.preetham.E, &in.preetham.zenith_Yxy};
     for (int i = 0; i < 6; ++i) glUniform3fv(p.preetham[i], 1, glm::value_ptr(*c[i]));
+    // The sky under a star, as the sky pass drew it (display output only): its night terms too.
+    NightTerms night = display ? in.night : NightTerms{};
+    night.moonlit_sky = night.moonlit_sky && textures.moon_sky_view != 0;
+    set_night_term_uniforms(p.night, night, textures.moon_sky_scale);
 
     auto bind = [](GLuint unit, GLuint texture, GLuint sampler) {
       glActiveTexture(GL_TEXTURE0 + unit);
@@ -229,6 +234,7 @@ bool NightRenderer::draw_points(const PassInputs& in, const NightSkyTextures& te
     bind(kDepthUnit, in.depth_texture, nearest_sampler_);
     bind(kMultipleScatteringUnit, display ? textures.multiple_scattering : 0, linear_sampler_);
     bind(kSkyViewUnit, display ? textures.sky_view : 0, linear_sampler_);
+    bind(kMoonSkyViewUnit, display ? textures.moon_sky_view : 0, linear_sampler_);
 
     glEnable(GL_PROGRAM_POINT_SIZE);
     if (point_smooth) glDisable(kPointSmooth);

@@ -30,23 +30,9 @@
 #include "gl/renderer.h"
 
 #include "gl/atmosphere_uniforms.h"
+#include "gl/night_terms_uniforms.h"
 
 namespace atmo::gl {
-
-// The tables the pass samples; names owned by the caller (the Renderer).
-struct NightSkyTextures {
-  // Always: the transmittance table (RGB32F, as Renderer::upload_tables).
-  GLuint transmittance = 0;
-  glm::vec2 transmittance_size{1.0f};
-  // DISPLAY_SRGB only, to re-evaluate the sky under a source as sky.frag
-  // does: the sky-view table of this frame (LUT, and ANALYTIC while
-  // analytic_weight < 1) — the one Renderer::draw_sky built for the same
-  // PassInputs — or the multiple-scattering table (MARCH).
-  GLuint sky_view = 0;
-  glm::vec2 sky_view_size{1.0f};
-  GLuint multiple_scattering = 0;
-  glm::vec2 multiple_scattering_size{1.0f};
-};
 
 class NightRenderer {
  public:
@@ -93,6 +79,7 @@ class NightRenderer {
         viewport, draw_viewport, point_size, footprint_sigma, eye_altitude, sun_direction, exposure,
         output_encoding, steps, sky_view, sky_view_size, analytic_weight;
     GLint preetham[6];
+    NightTermUniforms night;
   };
   bool build(Program* p, SkyMethod method, std::string* error);
 

@@ -2,6 +2,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 
@@ -17,7 +18,8 @@ constexpr GLuint kMultipleScatteringUnit = 2;
 constexpr GLuint kSkyViewUnit = 3;
 constexpr GLuint kAerialInscatterUnit = 4;
 constexpr GLuint kAerialTransmittanceUnit = 5;
-constexpr int kUnitsUsed = 6;
+static_assert(kMoonSkyViewUnit == 6, "the moonlit sky-view table follows the aerial volume's units");
+constexpr int kUnitsUsed = 7;
 
 std::string gl_error_string(GLenum e) {
   switch (e) {
@@ -89,6 +91,7 @@ bool Renderer::init(ProcLoader loader, void* user, std::string* error) {
   glGenTextures(1, &sky_view_texture_);
   glGenTextures(1, &aerial_inscatter_texture_);
   glGenTextures(1, &aerial_transmittance_texture_);
+  glGenTextures(1, &moon_sky_view_texture_);
   std::string gl_error;
   if (!check_gl("creating objects", &gl_error)) {
     if (error) *error = "gl_init: " + gl_error;
@@ -134,6 +137,7 @@ bool Renderer::build(Program* p, const char* fragment_path, SkyMethod method, st
   const char* preetham_names[6] = {"u_preetham.A", "u_preetham.B", "u_preetham.C",
                                    "u_preetham.D", "u_preetham.E", "u_preetham.zenith_Yxy"};
   for (int i = 0; i < 6; ++i) p->preetham[i] = loc(preetham_names[i]);
+  p->night = locate_night_term_uniforms(p->program);
   return true;
 }
 
@@ -147,7 +151,7 @@ void Renderer::destroy() {
   if (vao_) glDeleteVertexArrays(1, &vao_);
   if (fbo_) glDeleteFramebuffers(1, &fbo_);
   for (GLuint* t : {&transmittance_texture_, &multiple_scattering_texture_, &sky_view_texture_,
-                    &aerial_inscatter_texture_, &aerial_transmittance_texture_})
+                    &aerial_inscatter_texture_, &aerial_transmittance_texture_, &moon_sky_view_texture_})
     if (*t) glDeleteTextures(1, t);
   if (linear_sampler_) glDeleteSamplers(1, &linear_sampler_);
   if (nearest_sampler_) glDeleteSamplers(1, &nearest_sampler_);
@@ -158,11 +162,12 @@ void Renderer::forget() {
   for (int m = 0; m < kMethods; ++m) sky_[m] = aerial_[m] = Program{};
   sky_view_builder_ = aerial_volume_builder_ = Program{};
   vao_ = fbo_ = transmittance_texture_ = multiple_scattering_texture_ = 0;
-  sky_view_texture_ = aerial_inscatter_texture_ = aerial_transmittance_texture_ = 0;
+  sky_view_texture_ = aerial_inscatter_texture_ = aerial_transmittance_texture_ = moon_sky_view_texture_ = 0;
   linear_sampler_ = nearest_sampler_ = 0;
   derived_allocated_ = false;
   sky_view_key_.clear();
   aerial_key_.clear();
+  moon_sky_view_key_.clear();
 }
 
 void Renderer::use_lut_settings(const LutSettings& s) {
@@ -171,6 +176,7 @@ void Renderer::use_lut_settings(const LutSettings& s) {
   derived_allocated_ = false;
   sky_view_key_.clear();
   aerial_key_.clear();
+  moon_sky_view_key_.clear();
 }
 
 void Renderer::upload_tables(const twin::Lut2D& transmittance, const twin::Lut2D& multiple_scattering) {
@@ -190,10 +196,12 @@ void Renderer::upload_tables(const twin::Lut2D& transmittance, const twin::Lut2D
 void Renderer::allocate_derived_tables() {
   // Called inside a GlStateGuard (texture unit 0 is restored by it).
   glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, sky_view_texture_);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, settings_.sky_view_width, settings_.sky_view_height, 0, GL_RGBA,
-               GL_FLOAT, nullptr);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+  for (GLuint t : {sky_view_texture_, moon_sky_view_texture_}) {
+    glBindTexture(GL_TEXTURE_2D, t);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, settings_.sky_view_width, settings_.sky_view_height, 0, GL_RGBA,
+                 GL_FLOAT, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+  }
   GLint previous_3d = 0;
   glGetIntegerv(GL_TEXTURE_BINDING_3D, &previous_3d);
   for (GLuint t : {aerial_inscatter_texture_, aerial_transmittance_texture_}) {
@@ -239,6 +247,7 @@ void Renderer::set_uniforms(const Program& p, const PassInputs& in, int steps) c
   const glm::vec3* c[6] = {&in.preetham.A, &in.preetham.B, &in.preetham.C,
                            &in.preetham.D, &in.preetham.E, &in.preetham.zenith_Yxy};
   for (int i = 0; i < 6; ++i) glUniform3fv(p.preetham[i], 1, glm::value_ptr(*c[i]));
+  set_night_term_uniforms(p.night, in.night, moon_sky_scale_);
 }
 
 void Renderer::bind_textures(GLuint depth_texture) const {
@@ -253,6 +262,24 @@ void Renderer::bind_textures(GLuint depth_texture) const {
   bind(kSkyViewUnit, GL_TEXTURE_2D, sky_view_texture_, linear_sampler_);
   bind(kAerialInscatterUnit, GL_TEXTURE_3D, aerial_inscatter_texture_, linear_sampler_);
   bind(kAerialTransmittanceUnit, GL_TEXTURE_3D, aerial_transmittance_texture_, linear_sampler_);
+  bind(kMoonSkyViewUnit, GL_TEXTURE_2D, moon_sky_view_texture_, linear_sampler_);
+}
+
+void Renderer::render_sky_view(const PassInputs& in, GLuint texture) {
+  GlStateGuard guard(kUnitsUsed);
+  if (!derived_allocated_) allocate_derived_tables();
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
+  glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, texture, 0);
+  glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, 0, 0);
+  const GLenum buffers[1] = {GL_COLOR_ATTACHMENT0};
+  glDrawBuffers(1, buffers);
+  glDisablei(GL_BLEND, 0);
+  glViewport(0, 0, settings_.sky_view_width, settings_.sky_view_height);
+  glUseProgram(sky_view_builder_.program);
+  set_uniforms(sky_view_builder_, in, settings_.sky_view_steps);
+  bind_textures(0);
+  glBindVertexArray(vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
 bool Renderer::ensure_sky_view(const PassInputs& in, std::string* error) {
@@ -262,25 +289,43 @@ bool Renderer::ensure_sky_view(const PassInputs& in, std::string* error) {
   append_key(&key, in.eye_altitude_m);
   append_key(&key, in.sun_direction_enu.z);
   if (derived_allocated_ && key == sky_view_key_) return true;
-  {
-    GlStateGuard guard(kUnitsUsed);
-    if (!derived_allocated_) allocate_derived_tables();
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
-    glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, sky_view_texture_, 0);
-    glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, 0, 0);
-    const GLenum buffers[1] = {GL_COLOR_ATTACHMENT0};
-    glDrawBuffers(1, buffers);
-    glDisablei(GL_BLEND, 0);
-    glViewport(0, 0, settings_.sky_view_width, settings_.sky_view_height);
-    glUseProgram(sky_view_builder_.program);
-    set_uniforms(sky_view_builder_, in, settings_.sky_view_steps);
-    bind_textures(0);
-    glBindVertexArray(vao_);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-  }
+  render_sky_view(in, sky_view_texture_);
   if (!check_gl("building the sky-view table", error)) return false;
   sky_view_key_ = std::move(key);
   ++counters_.sky_view_builds;
+  return true;
+}
+
+bool Renderer::ensure_moon_sky_view(const PassInputs& in, std::string* error) {
+  const NightTerms& night = in.night;
+  if (!night.moonlit_sky) return true;
+  twin::AtmosphereParameters air = night.moonlit_atmosphere;
+  const glm::vec3 light = air.sun_illuminance_lux;
+  air.sun_illuminance_lux = glm::vec3(0.0f);  // the key is the air without the light, which is compared apart
+  std::vector<unsigned char> key;
+  append_key(&key, tables_version_);
+  append_key(&key, air);
+  append_key(&key, in.eye_altitude_m);
+  const float sin_elevation = night.moon_direction_enu.z;
+  const glm::vec3 built = moon_sky_view_light_;
+  const bool light_close = glm::all(glm::lessThanEqual(glm::abs(light - built), kMoonSkyViewLightStep * built));
+  if (derived_allocated_ && key == moon_sky_view_key_ && light_close &&
+      std::abs(sin_elevation - moon_sky_view_sin_elevation_) <= kMoonSkyViewElevationStep) {
+    moon_sky_scale_ = glm::vec3(built.x > 0.0f ? light.x / built.x : 0.0f, built.y > 0.0f ? light.y / built.y : 0.0f,
+                                built.z > 0.0f ? light.z / built.z : 0.0f);
+    return true;
+  }
+  PassInputs moonlit = in;
+  moonlit.atmosphere = night.moonlit_atmosphere;
+  moonlit.sun_direction_enu = night.moon_direction_enu;
+  moonlit.night = NightTerms{};
+  moon_sky_scale_ = glm::vec3(1.0f);
+  render_sky_view(moonlit, moon_sky_view_texture_);
+  if (!check_gl("building the moonlit sky-view table", error)) return false;
+  moon_sky_view_key_ = std::move(key);
+  moon_sky_view_sin_elevation_ = sin_elevation;
+  moon_sky_view_light_ = light;
+  ++counters_.moon_sky_view_builds;
   return true;
 }
 
@@ -348,7 +393,28 @@ bool Renderer::draw_sky(const PassInputs& in, std::string* error) {
   const bool needs_sky_view = in.method == SkyMethod::kLut ||
                               (in.method == SkyMethod::kAnalytic && in.analytic_weight < 1.0f);
   if (needs_sky_view && !ensure_sky_view(in, error)) return false;
+  if (!ensure_moon_sky_view(in, error)) return false;
   return draw(sky_[static_cast<int>(in.method)], in, settings_.march_sky_steps, false, error);
+}
+
+bool Renderer::night_sky_textures(const PassInputs& in, NightSkyTextures* out, std::string* error) {
+  while (glGetError() != GL_NO_ERROR) {}
+  use_lut_settings(in.lut);
+  const bool needs_sky_view = in.output_encoding == 1 &&
+                              (in.method == SkyMethod::kLut ||
+                               (in.method == SkyMethod::kAnalytic && in.analytic_weight < 1.0f));
+  if (needs_sky_view && !ensure_sky_view(in, error)) return false;
+  const bool needs_moon_sky_view = in.output_encoding == 1 && in.night.moonlit_sky;
+  if (needs_moon_sky_view && !ensure_moon_sky_view(in, error)) return false;
+  out->moon_sky_view = needs_moon_sky_view ? moon_sky_view_texture_ : 0;
+  out->moon_sky_scale = moon_sky_scale_;
+  out->transmittance = transmittance_texture_;
+  out->transmittance_size = transmittance_size_;
+  out->sky_view = needs_sky_view ? sky_view_texture_ : 0;
+  out->sky_view_size = glm::vec2(settings_.sky_view_width, settings_.sky_view_height);
+  out->multiple_scattering = multiple_scattering_texture_;
+  out->multiple_scattering_size = multiple_scattering_size_;
+  return true;
 }
 
 bool Renderer::draw_aerial_perspective(const PassInputs& in, std::string* error) {

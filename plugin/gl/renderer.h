@@ -16,11 +16,13 @@
 #include <string>
 #include <vector>
 
+#include "core/night_sky/night_sky_twin.h"
 #include "core/preetham.h"
 #include "core/shader_twin.h"
 #include "core/sky_view_table.h"
 
 #include "gl/atmosphere_uniforms.h"
+#include "gl/night_terms_uniforms.h"
 
 namespace atmo::gl {
 
@@ -43,6 +45,23 @@ struct LutSettings {
   }
 };
 
+// The night sky's terms of the sky pass (sky_pixel.glsl; which are on:
+// core/night_sky/night_plan.h). All off: the pass costs what it did without them.
+struct NightTerms {
+  // The sky lit by the Moon: a second sky-view table built with the Moon in
+  // the Sun's place (core::night::moonlit_atmosphere), LUT and ANALYTIC only.
+  bool moonlit_sky = false;
+  bool moon_disc = false;   // the Moon's disc (night_sky/moon_disc.glsl)
+  bool background = false;  // airglow, zodiacal light, Milky Way (night_sky/background.glsl)
+  twin::AtmosphereParameters moonlit_atmosphere{};
+  glm::vec3 moon_direction_enu{0.0f, 0.0f, 1.0f};  // apparent (refracted)
+  twin::MoonDisc moon{};
+  twin::NightBackground sky_background{};
+  float pixel_angle_rad = 0.0f;  // angular size of a pixel at the image centre (the disc's edge ramp)
+  // Bits of u_night_terms: 1 moonlit sky, 2 Moon disc, 4 background.
+  int bits() const { return (moonlit_sky ? 1 : 0) | (moon_disc ? 2 : 0) | (background ? 4 : 0); }
+};
+
 struct PassInputs {
   twin::AtmosphereParameters atmosphere;
   glm::vec3 sun_direction_enu{0.0f, 0.0f, 1.0f};
@@ -61,6 +80,26 @@ struct PassInputs {
   twin::PreethamCoefficients preetham{};     // ANALYTIC only
   float analytic_weight = 0.0f;              // ANALYTIC only: Preetham's confidence
   LutSettings lut;                           // table sizes for this view
+  NightTerms night;                          // the sky pass's night terms (and the point pass's sky under a star)
+};
+
+// The tables the pass samples; names owned by the caller (the Renderer).
+struct NightSkyTextures {
+  // Always: the transmittance table (RGB32F, as Renderer::upload_tables).
+  GLuint transmittance = 0;
+  glm::vec2 transmittance_size{1.0f};
+  // DISPLAY_SRGB only, to re-evaluate the sky under a source as sky.frag
+  // does: the sky-view table of this frame (LUT, and ANALYTIC while
+  // analytic_weight < 1) — the one Renderer::draw_sky built for the same
+  // PassInputs — or the multiple-scattering table (MARCH).
+  GLuint sky_view = 0;
+  glm::vec2 sky_view_size{1.0f};
+  GLuint multiple_scattering = 0;
+  glm::vec2 multiple_scattering_size{1.0f};
+  // DISPLAY_SRGB with PassInputs::night.moonlit_sky: the moonlit sky-view table
+  // and the factor its texels take to the current Moon (moon_sky_scale below).
+  GLuint moon_sky_view = 0;
+  glm::vec3 moon_sky_scale{1.0f};
 };
 
 class Renderer {
@@ -81,6 +120,12 @@ class Renderer {
   GLuint aerial_transmittance_texture() const { return aerial_key_.empty() ? 0 : aerial_transmittance_texture_; }
   const LutSettings& lut_settings() const { return settings_; }
 
+  // The tables the night pass samples for `in`: in DISPLAY_SRGB output the
+  // point pass re-evaluates the sky under each source, so the sky-view table
+  // is brought up to date for `in` as draw_sky would (no GL work when the sky
+  // pass of this frame built it). False and *error on a GL error.
+  bool night_sky_textures(const PassInputs& in, NightSkyTextures* out, std::string* error);
+
   // Uploads the transmittance and multiple-scattering tables (RGB32F).
   void upload_tables(const twin::Lut2D& transmittance, const twin::Lut2D& multiple_scattering);
   // Each returns false and sets *error on a GL error; state is restored either way.
@@ -88,8 +133,11 @@ class Renderer {
   bool draw_aerial_perspective(const PassInputs& in, std::string* error);
 
   // How many times each derived table was rendered (tests check the caching).
+  static constexpr float kMoonSkyViewElevationStep = 1e-3f;  // 0.06° at the horizon
+  static constexpr float kMoonSkyViewLightStep = 0.01f;
+
   struct Counters {
-    uint64_t sky_view_builds = 0, aerial_volume_builds = 0;
+    uint64_t sky_view_builds = 0, aerial_volume_builds = 0, moon_sky_view_builds = 0;
   };
   const Counters& counters() const { return counters_; }
 
@@ -104,12 +152,21 @@ class Renderer {
     GLint sky_view, sky_view_size, aerial_inscatter, aerial_transmittance, aerial_range, aerial_slices,
         aerial_grid, slice, sin_sun_elevation, analytic_weight;
     GLint preetham[6];
+    NightTermUniforms night;
   };
   bool build(Program* p, const char* fragment_path, SkyMethod method, std::string* error);
   void set_uniforms(const Program& p, const PassInputs& in, int steps) const;
   void bind_textures(GLuint depth_texture) const;
   bool draw(const Program& p, const PassInputs& in, int steps, bool dual_source_blend, std::string* error);
   bool ensure_sky_view(const PassInputs& in, std::string* error);
+  // The moonlit sky-view table for in.night (only when in.night.moonlit_sky):
+  // rebuilt when the Moon's elevation sine moved by more than
+  // kMoonSkyViewElevationStep or its light by more than kMoonSkyViewLightStep
+  // (relative) since the last build, or the air or altitude changed; between
+  // builds the table is scaled to the current light (moon_sky_scale_).
+  bool ensure_moon_sky_view(const PassInputs& in, std::string* error);
+  // Renders the sky-view table of `in` (its sun and air) into `texture`.
+  void render_sky_view(const PassInputs& in, GLuint texture);
   bool ensure_aerial_volume(const PassInputs& in, std::string* error);
   void allocate_derived_tables();
   // Table sizes; reallocates and invalidates the derived tables when they change.
@@ -122,6 +179,7 @@ class Renderer {
   GLuint vao_ = 0, fbo_ = 0;
   GLuint transmittance_texture_ = 0, multiple_scattering_texture_ = 0;
   GLuint sky_view_texture_ = 0, aerial_inscatter_texture_ = 0, aerial_transmittance_texture_ = 0;
+  GLuint moon_sky_view_texture_ = 0;
   GLuint linear_sampler_ = 0, nearest_sampler_ = 0;
   glm::vec2 transmittance_size_{1.0f}, multiple_scattering_size_{1.0f};
   LutSettings settings_;
@@ -129,6 +187,11 @@ class Renderer {
   uint64_t tables_version_ = 0;  // bumps on every upload: derived tables depend on it
   // The inputs each derived table was last built from (bytes compared).
   std::vector<unsigned char> sky_view_key_, aerial_key_;
+  // The moonlit table: what it was built for (key without the Moon), the Moon's elevation sine and light.
+  std::vector<unsigned char> moon_sky_view_key_;
+  float moon_sky_view_sin_elevation_ = 0.0f;
+  glm::vec3 moon_sky_view_light_{0.0f};
+  glm::vec3 moon_sky_scale_{1.0f};
   Counters counters_;
 };
 

@@ -189,8 +189,9 @@ int run_render(const Options& options) {
 
       const AtmoLighting lighting = view.lighting();
       const double sun_elevation_deg = glm::degrees(lighting.sun_elevation_rad);
-      const double ev100 = scenario.render.exposure_ev100 ? *scenario.render.exposure_ev100
-                                                          : sc::auto_exposure_ev100(sun_elevation_deg);
+      const double ev100 = cam.exposure_ev100            ? *cam.exposure_ev100
+                           : scenario.render.exposure_ev100 ? *scenario.render.exposure_ev100
+                                                            : sc::auto_exposure_ev100(sun_elevation_deg);
       const double exposure = hs::exposure_scale_from_ev100(ev100);
       if (scenario.render.output == sc::OutputEncoding::DisplaySrgb) {
         setup.output_encoding = ATMO_OUTPUT_DISPLAY_SRGB;
@@ -222,7 +223,12 @@ int run_render(const Options& options) {
           timings[0].ms.push_back(timer.last_ms());
           timings[0].query_ms = timer.last_query_ms();
         }
+        const bool stars = !scenario.night_sky || scenario.night_sky->stars;
         for (size_t p = 0; p < 5; ++p) {
+          if (passes[p] == ATMO_PASS_NIGHT_SKY && !stars) {
+            timings[p + 1].status = "left out (night_sky.stars: false)";
+            continue;
+          }
           AtmoResult r = timer.time([&] { return view.render(passes[p]); });
           timings[p + 1].ms.push_back(timer.last_ms());
           timings[p + 1].query_ms = timer.last_query_ms();

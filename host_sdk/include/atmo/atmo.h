@@ -333,15 +333,23 @@ typedef struct AtmoViewState {
 /* ------------------------------------------------------------------------ */
 
 typedef enum AtmoPass {
-  /* Sky dome, sun disc, and the Earth seen from above where no geometry is.
-     Draws only where the host depth is at the far plane (or everywhere with no
-     depth texture), so it may be called before or after opaques. Replaces colour. */
+  /* Sky dome, sun disc, and the Earth seen from above where no geometry is;
+     the Moon's disc, the moonlit sky and the faint night background whenever
+     they can be seen. Draws only where the host depth is at the far plane (or
+     everywhere with no depth texture), so it may be called before or after
+     opaques. Replaces colour. */
   ATMO_PASS_SKY = 0,
   /* Haze over the host's opaque geometry, from the host depth: colour =
      colour * transmittance + in-scattered light. Call after opaques. */
   ATMO_PASS_AERIAL_PERSPECTIVE = 1,
   ATMO_PASS_CLOUDS = 2,       /* volumetric clouds (not yet supported: nothing to draw) */
-  ATMO_PASS_NIGHT_SKY = 3,    /* stars, moon, planets (not yet supported: nothing to draw) */
+  /* Stars and planets as points (photometric, dimmed by the air, only where
+     the host depth is at the far plane). Call after ATMO_PASS_SKY, which
+     draws the Moon's disc, the moonlit sky and the faint night background
+     (airglow, zodiacal light, Milky Way) whenever they can be seen. Returns
+     ATMO_STATUS_NOTHING_TO_DRAW, with no GL call, when no star or planet can
+     change a pixel at this exposure (daylight). docs/NIGHT_SKY.md. */
+  ATMO_PASS_NIGHT_SKY = 3,
   ATMO_PASS_LIGHT_GLOWS = 4,  /* glows of host lights in fog (not yet supported: nothing to draw) */
   ATMO_PASS_COUNT = 5
 } AtmoPass;

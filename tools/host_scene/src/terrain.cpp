@@ -248,6 +248,15 @@ SceneLighting lighting_from_atmo(const AtmoLighting& lighting) {
   out.sun_direction_enu = len > 0 ? out.sun_direction_enu / len : glm::dvec3(0, 0, 1);
   out.sun_illuminance_lux = glm::dvec3(lighting.sun_illuminance_lux[0], lighting.sun_illuminance_lux[1],
                                        lighting.sun_illuminance_lux[2]);
+  // One directional light, as many hosts have: the Moon takes the Sun's place when it gives more light.
+  const glm::dvec3 moon_lux(lighting.moon_illuminance_lux[0], lighting.moon_illuminance_lux[1],
+                            lighting.moon_illuminance_lux[2]);
+  const glm::dvec3 moon_dir(lighting.moon_direction_enu[0], lighting.moon_direction_enu[1],
+                            lighting.moon_direction_enu[2]);
+  if (moon_lux.y > out.sun_illuminance_lux.y && glm::length(moon_dir) > 0.0) {
+    out.sun_direction_enu = glm::normalize(moon_dir);
+    out.sun_illuminance_lux = moon_lux;
+  }
   // The plugin's sky illuminance on a horizontal surface (the terrain's
   // ambient term), plus a floor of starlight-level light so night is not 0.
   out.sky_ambient_lux = glm::dvec3(lighting.sky_illuminance_horizontal_lux[0], lighting.sky_illuminance_horizontal_lux[1],

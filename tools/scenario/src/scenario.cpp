@@ -30,7 +30,7 @@ const std::vector<ObjectShape> kShapes = {
     {"position", {"enu_m", "geodetic"}},
     {"camera",
      {"name", "position", "heading_deg", "pitch_deg", "roll_deg", "vertical_fov_deg", "width",
-      "height", "near_m", "far_m"}},
+      "height", "near_m", "far_m", "exposure_ev100"}},
     {"atmosphere", {"visibility_m", "aerosol_scale_height_m", "ground_albedo"}},
     {"terrain", {"kind", "seed", "size_m", "relief_m", "runway", "runway_heading_deg"}},
     {"cloud_layer",
@@ -128,9 +128,11 @@ class Loader {
     }
     if (const json* v = r.field("night_sky", false, "")) {
       night_sky(*v, r.child("night_sky"), &s->night_sky.emplace());
-      s->not_yet_supported.push_back(
-          {r.child("night_sky"),
-           "night sky validated but not drawn: stars and moon are not implemented yet"});
+      if (!s->night_sky->moon) {
+        s->not_yet_supported.push_back(
+            {r.child("night_sky") + "/moon",
+             "moon: false is not supported: the Moon is part of the sky pass and is drawn whenever it is up"});
+      }
     }
     if (const json* v = r.field("render", false, "")) render(*v, r.child("render"), &s->render);
     if (const json* v = r.field("outputs", false, "")) outputs(*v, r.child("outputs"), &s->outputs);
@@ -242,6 +244,9 @@ class Loader {
       if (near_m && far_m && !(*far_m > *near_m)) {
         errors_.expected(r.child("far_m"), "a number > near_m (" + detail::describe(*near_m) + ")",
                          *far_m);
+      }
+      if (r.field("exposure_ev100", false, "")) {
+        c.exposure_ev100 = r.number("exposure_ev100", Range::closed(-20, 30), std::nullopt);
       }
       s->cameras.push_back(std::move(c));
     }

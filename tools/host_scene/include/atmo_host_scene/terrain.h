@@ -35,8 +35,9 @@ struct SceneLighting {
   glm::dvec3 sky_ambient_lux{0.0};              // linear RGB, on a horizontal surface
 };
 
-// Sun from the plugin's get_lighting; the sky ambient is a rough host-side
-// estimate from the sun's elevation (Atmo gives no sky irradiance yet).
+// The directional light from the plugin's get_lighting: the Sun, or the Moon
+// when it gives more light (a host with one directional light); the ambient
+// is the plugin's sky illuminance on a horizontal surface plus a 1 mlx floor.
 SceneLighting lighting_from_atmo(const AtmoLighting& lighting);
 
 struct LightPoint {

@@ -56,6 +56,9 @@ struct Camera {
   int height = 0;             // pixels, [1, 8192]
   double near_m = 1.0;        // > 0
   double far_m = 100000.0;    // > near_m
+  // [-20, 30]; replaces render.exposure_ev100 for this camera (e.g. a
+  // telephoto on the Moon next to a wide night view).
+  std::optional<double> exposure_ev100;
 };
 
 struct Atmosphere {
@@ -107,6 +110,10 @@ struct Lights {
   std::vector<LightPoint> points;
 };
 
+// The night sky is drawn whenever it can be seen (the plugin decides by
+// physics and exposure); stars: false leaves out the night-sky pass (stars and
+// planets). The Moon belongs to the sky pass: moon: false is reported as not
+// supported.
 struct NightSky {
   bool stars = true;
   bool moon = true;
@@ -167,7 +174,7 @@ struct Scenario {
   std::vector<CloudLayer> clouds;  // not yet supported
   std::optional<Fog> fog;          // not yet supported
   std::optional<Lights> lights;    // not yet supported
-  std::optional<NightSky> night_sky;  // not yet supported
+  std::optional<NightSky> night_sky;
   Render render;
   Outputs outputs;
   Expectations expectations;
