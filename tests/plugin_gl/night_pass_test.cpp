@@ -137,3 +137,59 @@ TEST(NightPass, NothingInDaylightStarsAtNight) {
   EXPECT_GT(brighter, 10);
   EXPECT_EQ(darker, 0) << "the point pass must only add light";
 }
+
+// The places and times where ephemerides and sky geometry break: the poles,
+// the date line, 400 m below sea level, 100 km up (the march above the air),
+// the Moon and the Sun on the horizon, the year 2100. Sky and night passes in
+// both encodings at night exposure: every pixel finite and non-negative.
+TEST(NightPass, FiniteAtThePolesTheDateLineInSpaceAnd2100) {
+  Fixture f;
+  const glm::dmat4 projection = glm::perspective(glm::radians(60.0), double(kWidth) / kHeight, 1.0, 1.0e5);
+  struct Case {
+    const char* name;
+    double lat, lon, height_m, utc_posix_s, heading, pitch;
+  } cases[] = {
+      {"north pole, polar night", 90.0, 0.0, 10.0, 1734231600.0, 0.0, 10.0},
+      {"south pole", -90.0, 0.0, 2835.0, 1734231600.0, 180.0, 5.0},
+      {"date line, east", 0.0, 180.0, 0.0, 1734231600.0, 90.0, 20.0},
+      {"date line, west", 0.0, -179.9999, 0.0, 1734231600.0, 270.0, 20.0},
+      {"Dead Sea shore, -400 m", 31.5, 35.5, -400.0, 1734231600.0, 270.0, 30.0},
+      {"100 km up", 47.26, 11.35, 100000.0, 1734231600.0, 0.0, -10.0},
+      {"Moon on the horizon (moonrise, Innsbruck 2024-12-10T12:20Z)", 47.26, 11.35, 620.0, 1733833200.0, 82.0, 0.0},
+      {"Sun on the horizon (sunset, Innsbruck 2024-12-10T15:22:06Z)", 47.26, 11.35, 620.0, 1733844126.0, 235.5, 0.0},
+      {"year 2100, night (2100-12-21T22:00Z)", 47.26, 11.35, 620.0, 4133109600.0, 180.0, 30.0},
+  };
+  for (const Case& c : cases) {
+    for (uint32_t encoding : {ATMO_OUTPUT_LINEAR_HDR, ATMO_OUTPUT_DISPLAY_SRGB}) {
+      AtmoViewState vs = geodetic_view(c.heading, c.pitch, projection);
+      vs.eye_geodetic[0] = vs.world_origin_geodetic[0] = c.lat;
+      vs.eye_geodetic[1] = vs.world_origin_geodetic[1] = c.lon;
+      vs.eye_geodetic[2] = vs.world_origin_geodetic[2] = c.height_m;
+      vs.output_encoding = encoding;
+      vs.exposure_scale = 1.0 / (1.2 * 0.25);  // EV100 -2
+      auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+      frame.utc_posix_s = c.utc_posix_s;
+      f.context->set_frame(frame);
+      f.view->set(vs);
+      f.target->bind();
+      f.target->clear(0.0f, 0.0f, 0.0f, 1.0f);
+      ASSERT_EQ(f.view->render(ATMO_PASS_SKY), ATMO_SUCCESS) << c.name << ": "
+                                                              << f.plugin->api().last_error(f.context->handle());
+      const AtmoResult night = f.view->render(ATMO_PASS_NIGHT_SKY);
+      ASSERT_TRUE(night == ATMO_SUCCESS || night == ATMO_STATUS_NOTHING_TO_DRAW)
+          << c.name << ": " << f.plugin->api().last_error(f.context->handle());
+      const auto img = f.target->read_color();
+      int bad = 0;
+      double peak = 0.0;
+      for (size_t i = 0; i < img.pixel_count() * 4; ++i) {
+        if (!std::isfinite(img.rgba[i]) || img.rgba[i] < 0.0f) ++bad;
+        else peak = std::max(peak, double(img.rgba[i]));
+      }
+      if (encoding == ATMO_OUTPUT_LINEAR_HDR) {
+        std::printf("[ night pass ] %-62s night pass %s, brightest exposed value %.3g\n", c.name,
+                    night == ATMO_SUCCESS ? "drew" : "had nothing", peak);
+      }
+      EXPECT_EQ(bad, 0) << c.name << ", encoding " << encoding;
+    }
+  }
+}
