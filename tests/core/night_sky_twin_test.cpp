@@ -89,17 +89,9 @@ glm::dmat3 random_rotation(std::mt19937& rng) {
 
 // The core's radiance (double) in direction `dir` for a Moon of centre `c`,
 // angular radius `alpha`, Moon -> Sun `to_sun`; 0 off the disc (hard edge).
-glm::dvec3 core_moon(const night::MoonDiscLighting& l, const glm::dvec3& c_in, double alpha, const glm::dvec3& to_sun_in,
-                     const glm::dvec3& dir_in) {
-  const glm::dvec3 c = glm::normalize(c_in), d = glm::normalize(dir_in), to_sun = glm::normalize(to_sun_in);
-  const double cos_t = glm::dot(d, c);
-  if (cos_t <= 0.0) return glm::dvec3(0.0);
-  const glm::dvec3 lateral = d - cos_t * c;
-  if (std::atan2(glm::length(lateral), cos_t) > alpha) return glm::dvec3(0.0);
-  const glm::dvec3 right = perpendicular(c), up = glm::cross(c, right);
-  const glm::dvec2 xy(glm::dot(lateral, right) / std::sin(alpha), glm::dot(lateral, up) / std::sin(alpha));
-  const glm::dvec3 n = night::moon_disc_normal(xy, -c, right, up);
-  return night::moon_disc_radiance_rgb(l, n, to_sun, -c);
+glm::dvec3 core_moon(const night::MoonDiscLighting& l, const glm::dvec3& c, double alpha, const glm::dvec3& to_sun,
+                     const glm::dvec3& dir) {
+  return night::moon_disc_radiance_toward(l, c, alpha, to_sun, dir);
 }
 
 // A direction at disc coordinates (rho, angle) of a Moon at c, angular radius alpha.

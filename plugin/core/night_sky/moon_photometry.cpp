@@ -179,4 +179,19 @@ glm::dvec3 moon_disc_radiance_rgb(const MoonDiscLighting& l, const glm::dvec3& n
   return moon_disc_luminance(l, normal, to_sun, to_observer) * l.color_rgb;
 }
 
+glm::dvec3 moon_disc_radiance_toward(const MoonDiscLighting& lighting, const glm::dvec3& centre_in,
+                                     double angular_radius_rad, const glm::dvec3& to_sun_in, const glm::dvec3& dir_in) {
+  const glm::dvec3 c = glm::normalize(centre_in), d = glm::normalize(dir_in), to_sun = glm::normalize(to_sun_in);
+  const double cos_t = glm::dot(d, c);
+  if (!(cos_t > 0.0) || !(angular_radius_rad > 0.0)) return glm::dvec3(0.0);
+  const glm::dvec3 lateral = d - cos_t * c;
+  if (std::atan2(glm::length(lateral), cos_t) > angular_radius_rad) return glm::dvec3(0.0);
+  // Disc axes: any pair perpendicular to the line of sight.
+  const glm::dvec3 a = std::abs(c.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  const glm::dvec3 right = glm::normalize(glm::cross(c, a)), up = glm::cross(c, right);
+  const double s = std::sin(angular_radius_rad);
+  const glm::dvec2 xy(glm::dot(lateral, right) / s, glm::dot(lateral, up) / s);
+  return moon_disc_radiance_rgb(lighting, moon_disc_normal(xy, -c, right, up), to_sun, -c);
+}
+
 }  // namespace atmo::core::night

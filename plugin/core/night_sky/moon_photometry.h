@@ -144,4 +144,12 @@ double moon_disc_luminance(const MoonDiscLighting& lighting, const glm::dvec3& n
 glm::dvec3 moon_disc_radiance_rgb(const MoonDiscLighting& lighting, const glm::dvec3& normal,
                                   const glm::dvec3& to_sun, const glm::dvec3& to_observer);
 
+// The disc's radiance (linear sRGB, cd/m^2, outside the air) seen in
+// direction `dir` for a Moon whose centre is in direction `centre`, of
+// angular radius `angular_radius_rad`, lit from `to_sun` (Moon -> Sun): 0 off
+// the disc (a hard edge). Vectors need not be unit. The double-precision
+// reference the GLSL disc (shaders/night_sky/moon_disc.glsl) is tested against.
+glm::dvec3 moon_disc_radiance_toward(const MoonDiscLighting& lighting, const glm::dvec3& centre,
+                                     double angular_radius_rad, const glm::dvec3& to_sun, const glm::dvec3& dir);
+
 }  // namespace atmo::core::night
