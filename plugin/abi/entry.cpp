@@ -368,6 +368,10 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
     }
     atmo::core::Scene scene = atmo::abi::prepare_scene(ctx, *view);
     atmo::gl::PassInputs inputs = atmo::abi::make_pass_inputs(scene, *view, ctx->lut, ctx->multiple_scattering);
+    if (pass.pass == ATMO_PASS_AERIAL_PERSPECTIVE) {
+      // At night the haze over the geometry is lit by the Moon (the plan of this view's last sky or night pass).
+      atmo::abi::light_haze_by_the_moon(*view, scene, &inputs);
+    }
     if (pass.pass == ATMO_PASS_SKY || pass.pass == ATMO_PASS_NIGHT_SKY) {
       const atmo::core::night::NightPlan& night = atmo::abi::plan_night_sky(ctx, *view, scene, inputs);
       // Daylight: no star or planet can change a pixel, so the night pass does no work at all (no GL call).

@@ -76,6 +76,12 @@ void add_night_terms(AtmoContext_T* c, AtmoView_T& view, const core::Scene& scen
   }
 }
 
+void light_haze_by_the_moon(const AtmoView_T& view, const core::Scene& scene, gl::PassInputs* inputs) {
+  if (!view.night_plan.moon_lights_haze() || inputs->method == gl::SkyMethod::kMarch) return;
+  inputs->atmosphere = core::night::moonlit_atmosphere(scene.atmosphere, scene.bodies);
+  inputs->sun_direction_enu = glm::vec3(scene.bodies.moon_enu);
+}
+
 const core::astro::AstrometryFrame* view_astrometry(AtmoContext_T* c, AtmoView_T& view, std::string* error) {
   if (view.astrometry && view.astrometry_utc_posix_s == c->utc_posix_s && view.astrometry_dut1_s == c->dut1_s &&
       view.astrometry_eye_ecef_m == view.eye.eye_ecef_m) {

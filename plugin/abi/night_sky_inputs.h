@@ -30,6 +30,13 @@ void add_night_terms(AtmoContext_T* context, AtmoView_T& view, const core::Scene
 // brightest planet of the last computation (within a day). The daylight case.
 bool night_points_invisible(const AtmoContext_T* context, const core::night::NightPlan& plan);
 
+// The aerial-perspective pass: when the view's last plan found the moonlit
+// sky brighter than the Sun's (NightPlan::moon_lights_haze), the volume is
+// built with the Moon as the light (the Sun then lights nothing near the
+// ground). The plan is the one of this view's last sky or night pass, so a
+// host calling the sky pass first gets this frame's.
+void light_haze_by_the_moon(const AtmoView_T& view, const core::Scene& scene, gl::PassInputs* inputs);
+
 // Fills view.night_points with the stars and planets above the horizon and
 // brighter than the plan's limiting magnitude. Returns false (and *error) only
 // when the astrometry failed; a catalogue that could not be parsed leaves the

@@ -78,6 +78,7 @@ TEST(NightPlan, DaylightDrawsNoNightTermButTheDayMoon) {
   EXPECT_LT(plan.limiting_magnitude, core::night::kBrightestStarMagnitude);
   EXPECT_FALSE(plan.background);
   EXPECT_FALSE(plan.moonlit_sky);
+  EXPECT_FALSE(plan.moon_lights_haze());  // the Sun lights the haze by day
   // The day Moon is seen (quarter Moon ~1000 cd/m^2 against a ~5000 cd/m^2 sky): its disc stays on.
   EXPECT_TRUE(plan.moon_disc);
   // Below the horizon it is not.
@@ -98,6 +99,14 @@ TEST(NightPlan, DarkNightDrawsEverything) {
   EXPECT_TRUE(plan.moonlit_sky);
   EXPECT_TRUE(plan.moon_disc);
   EXPECT_GT(plan.limiting_magnitude, 4.0);
+  // The Moon's sky outshines the Sun's: the haze over the ground is lit by the Moon.
+  std::printf("[ plan ] moonlit night: zenith lit by the Sun %.3g, by the Moon %.3g cd/m^2\n", plan.sun_zenith_cd_m2,
+              plan.moon_zenith_cd_m2);
+  EXPECT_TRUE(plan.moon_lights_haze());
+  // At civil twilight the Sun's sky still wins.
+  const auto dusk = core::night::plan_night_sky(scene_with(-4.0, 40.0, 30.0), air().t, air().ms,
+                                                inputs(exposure_ev100(7.0)));
+  EXPECT_FALSE(dusk.moon_lights_haze());
   // Without the Moon: no moonlit sky, a darker sky (the limit is the display's:
   // in the tone curve's toe a darker background does not show fainter stars).
   const auto moonless = core::night::plan_night_sky(scene_with(-40.0, -30.0, 30.0), air().t, air().ms,
@@ -106,6 +115,7 @@ TEST(NightPlan, DarkNightDrawsEverything) {
               moonless.darkest_sky_cd_m2, moonless.limiting_magnitude);
   EXPECT_FALSE(moonless.moonlit_sky);
   EXPECT_FALSE(moonless.moon_disc);
+  EXPECT_FALSE(moonless.moon_lights_haze());
   EXPECT_LT(moonless.darkest_sky_cd_m2, 0.3 * plan.darkest_sky_cd_m2);
   EXPECT_GT(moonless.limiting_magnitude, 4.0);
   // A method without a sky-view table (the march, above the atmosphere) gets no moonlit sky.

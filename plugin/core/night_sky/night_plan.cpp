@@ -77,13 +77,13 @@ NightPlan plan_night_sky(const Scene& scene, const twin::Lut2D& transmittance, c
                                                    radius) >= step_cd_m2;
 
   // The darkest sky in view, erring dark.
-  double zenith = zenith_sky_luminance(scene.atmosphere, transmittance, multiple_scattering, scene.eye_altitude_m,
-                                       scene.sun_direction_enu);
+  plan.sun_zenith_cd_m2 = zenith_sky_luminance(scene.atmosphere, transmittance, multiple_scattering,
+                                               scene.eye_altitude_m, scene.sun_direction_enu);
   if (plan.moonlit_sky) {
-    zenith += zenith_sky_luminance(moonlit_atmosphere(scene.atmosphere, b), transmittance, multiple_scattering,
-                                   scene.eye_altitude_m, b.moon_enu);
+    plan.moon_zenith_cd_m2 = zenith_sky_luminance(moonlit_atmosphere(scene.atmosphere, b), transmittance,
+                                                  multiple_scattering, scene.eye_altitude_m, b.moon_enu);
   }
-  plan.darkest_sky_cd_m2 = 0.3 * zenith + kBackgroundMinLuminance;
+  plan.darkest_sky_cd_m2 = 0.3 * (plan.sun_zenith_cd_m2 + plan.moon_zenith_cd_m2) + kBackgroundMinLuminance;
   DisplayThreshold threshold;
   if (in.display_encoded) {
     threshold.kind = DisplayThreshold::Kind::kEncodedSdr;

@@ -63,6 +63,14 @@ struct NightPlan {
   bool background = false;    // airglow, zodiacal light, integrated starlight
   // The Moon above the horizon cut (refracted elevation > -(dip + 0.5°)).
   bool moon_up = false;
+  // The zenith's luminance lit by the Sun and by the Moon (cd/m^2, the CPU
+  // twin's march; the Moon's only when moonlit_sky). When the Moon's is the
+  // larger, the haze over the host's geometry (the aerial-perspective volume)
+  // is lit by the Moon instead of the Sun: at night the Sun lights nothing
+  // near the ground, and one light keeps the volume's cost.
+  double sun_zenith_cd_m2 = 0.0;
+  double moon_zenith_cd_m2 = 0.0;
+  bool moon_lights_haze() const { return moonlit_sky && moon_zenith_cd_m2 > sun_zenith_cd_m2; }
 };
 
 // The visible step of the output on black, exposed linear units.
