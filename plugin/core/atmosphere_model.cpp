@@ -111,4 +111,12 @@ twin::Lut2D compute_multiple_scattering_table(const twin::AtmosphereParameters& 
   return table;
 }
 
+ModelTables compute_model_tables(const AtmosphereSettings& settings, double bottom_radius_m) {
+  ModelTables t;
+  t.atmosphere = make_atmosphere_parameters(settings, bottom_radius_m, 1.0);
+  t.transmittance = compute_transmittance_table(t.atmosphere, kTransmittanceWidth, kTransmittanceHeight);
+  t.multiple_scattering = compute_multiple_scattering_table(t.atmosphere, t.transmittance);
+  return t;
+}
+
 }  // namespace atmo::core

@@ -74,4 +74,13 @@ twin::Lut2D compute_multiple_scattering_table(const twin::AtmosphereParameters& 
                                               int steps = 20,
                                               const TableBuildControl& control = {});
 
+// The air of `settings` on a sphere of `bottom_radius_m` (Sun at 1 au) and
+// its two CPU tables at the default sizes: what tests, benchmarks and tools
+// that draw or evaluate one fixed air start from (~0.25 s).
+struct ModelTables {
+  twin::AtmosphereParameters atmosphere;
+  twin::Lut2D transmittance, multiple_scattering;
+};
+ModelTables compute_model_tables(const AtmosphereSettings& settings, double bottom_radius_m);
+
 }  // namespace atmo::core

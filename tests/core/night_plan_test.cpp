@@ -20,19 +20,8 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-struct Air {
-  twin::AtmosphereParameters atm;
-  twin::Lut2D t, ms;
-};
-
-const Air& air() {
-  static const Air a = [] {
-    Air x;
-    x.atm = core::make_atmosphere_parameters(core::AtmosphereSettings{}, 6370000.0, 1.0);
-    x.t = core::compute_transmittance_table(x.atm, core::kTransmittanceWidth, core::kTransmittanceHeight);
-    x.ms = core::compute_multiple_scattering_table(x.atm, x.t);
-    return x;
-  }();
+const core::ModelTables& air() {
+  static const core::ModelTables a = core::compute_model_tables(core::AtmosphereSettings{}, 6370000.0);
   return a;
 }
 
@@ -40,7 +29,7 @@ const Air& air() {
 // phase at `moon_deg` elevation (south), eye 300 m up.
 core::Scene scene_with(double sun_deg, double moon_deg, double moon_phase_deg) {
   core::Scene s;
-  s.atmosphere = air().atm;
+  s.atmosphere = air().atmosphere;
   s.sphere_radius_m = 6370000.0;
   s.eye_altitude_m = 300.0;
   const double e = sun_deg * kDeg, m = moon_deg * kDeg;
@@ -68,7 +57,7 @@ double exposure_ev100(double ev100) { return 1.0 / (1.2 * std::pow(2.0, ev100));
 
 TEST(NightPlan, DaylightDrawsNoNightTermButTheDayMoon) {
   const core::Scene noon = scene_with(60.0, 30.0, 90.0);  // a quarter Moon in the afternoon sky
-  const auto plan = core::night::plan_night_sky(noon, air().t, air().ms, inputs(exposure_ev100(15.0)));
+  const auto plan = core::night::plan_night_sky(noon, air().transmittance, air().multiple_scattering, inputs(exposure_ev100(15.0)));
   std::printf("[ plan ] noon, EV100 15: darkest sky %.0f cd/m^2, limiting magnitude %.2f; points %d, background %d, "
               "moonlit sky %d, Moon disc %d\n",
               plan.darkest_sky_cd_m2, plan.limiting_magnitude, plan.points, plan.background, plan.moonlit_sky,
@@ -82,7 +71,7 @@ TEST(NightPlan, DaylightDrawsNoNightTermButTheDayMoon) {
   // The day Moon is seen (quarter Moon ~1000 cd/m^2 against a ~5000 cd/m^2 sky): its disc stays on.
   EXPECT_TRUE(plan.moon_disc);
   // Below the horizon it is not.
-  const auto set = core::night::plan_night_sky(scene_with(60.0, -5.0, 90.0), air().t, air().ms,
+  const auto set = core::night::plan_night_sky(scene_with(60.0, -5.0, 90.0), air().transmittance, air().multiple_scattering,
                                                inputs(exposure_ev100(15.0)));
   EXPECT_FALSE(set.moon_disc);
   EXPECT_FALSE(set.moon_up);
@@ -90,7 +79,7 @@ TEST(NightPlan, DaylightDrawsNoNightTermButTheDayMoon) {
 
 TEST(NightPlan, DarkNightDrawsEverything) {
   const core::Scene night = scene_with(-40.0, 40.0, 30.0);
-  const auto plan = core::night::plan_night_sky(night, air().t, air().ms, inputs(exposure_ev100(-3.0)));
+  const auto plan = core::night::plan_night_sky(night, air().transmittance, air().multiple_scattering, inputs(exposure_ev100(-3.0)));
   std::printf("[ plan ] moonlit night (Moon 40° up, phase 30°), EV100 -3: darkest sky %.3g cd/m^2, limiting "
               "magnitude %.2f\n",
               plan.darkest_sky_cd_m2, plan.limiting_magnitude);
@@ -104,12 +93,12 @@ TEST(NightPlan, DarkNightDrawsEverything) {
               plan.moon_zenith_cd_m2);
   EXPECT_TRUE(plan.moon_lights_haze());
   // At civil twilight the Sun's sky still wins.
-  const auto dusk = core::night::plan_night_sky(scene_with(-4.0, 40.0, 30.0), air().t, air().ms,
+  const auto dusk = core::night::plan_night_sky(scene_with(-4.0, 40.0, 30.0), air().transmittance, air().multiple_scattering,
                                                 inputs(exposure_ev100(7.0)));
   EXPECT_FALSE(dusk.moon_lights_haze());
   // Without the Moon: no moonlit sky, a darker sky (the limit is the display's:
   // in the tone curve's toe a darker background does not show fainter stars).
-  const auto moonless = core::night::plan_night_sky(scene_with(-40.0, -30.0, 30.0), air().t, air().ms,
+  const auto moonless = core::night::plan_night_sky(scene_with(-40.0, -30.0, 30.0), air().transmittance, air().multiple_scattering,
                                                     inputs(exposure_ev100(-3.0)));
   std::printf("[ plan ] moonless night, EV100 -3: darkest sky %.3g cd/m^2, limiting magnitude %.2f\n",
               moonless.darkest_sky_cd_m2, moonless.limiting_magnitude);
@@ -121,7 +110,7 @@ TEST(NightPlan, DarkNightDrawsEverything) {
   // A method without a sky-view table (the march, above the atmosphere) gets no moonlit sky.
   auto no_table = inputs(exposure_ev100(-3.0));
   no_table.method_has_sky_view = false;
-  EXPECT_FALSE(core::night::plan_night_sky(night, air().t, air().ms, no_table).moonlit_sky);
+  EXPECT_FALSE(core::night::plan_night_sky(night, air().transmittance, air().multiple_scattering, no_table).moonlit_sky);
 }
 
 // Dusk with a camera that keeps the zenith at mid grey (exposure = 0.18 /
@@ -133,12 +122,12 @@ TEST(NightPlan, StarsFadeInContinuouslyAtDusk) {
   for (int i = 0; i <= 96; ++i) {
     const double sun_deg = 6.0 - 0.25 * i;
     const core::Scene s = scene_with(sun_deg, -30.0, 0.0);
-    const glm::vec3 zenith = twin::sky_radiance(s.atmosphere, air().t, glm::vec2(air().t.width, air().t.height),
-                                                air().ms, glm::vec2(air().ms.width, air().ms.height), 300.0f,
+    const glm::vec3 zenith = twin::sky_radiance(s.atmosphere, air().transmittance, glm::vec2(air().transmittance.width, air().transmittance.height),
+                                                air().multiple_scattering, glm::vec2(air().multiple_scattering.width, air().multiple_scattering.height), 300.0f,
                                                 glm::vec3(0, 0, 1), glm::vec3(s.sun_direction_enu), 32);
     const double l_zenith = core::night::rgb_luminance(glm::dvec3(zenith)) + 2e-4;
     const double exposure = std::min(0.18 / l_zenith, exposure_ev100(-3.0));
-    const auto plan = core::night::plan_night_sky(s, air().t, air().ms, inputs(exposure));
+    const auto plan = core::night::plan_night_sky(s, air().transmittance, air().multiple_scattering, inputs(exposure));
     ASSERT_TRUE(std::isfinite(plan.limiting_magnitude) || plan.limiting_magnitude < 0.0) << sun_deg;
     if (plan.limiting_magnitude >= core::night::kBrightestStarMagnitude && first_points_at > 1e8) first_points_at = sun_deg;
     if (i % 8 == 0) {
@@ -176,7 +165,7 @@ TEST(NightPlan, StarsFadeInContinuouslyAtDusk) {
 TEST(NightPlan, DegenerateInputsDrawNothingAndStayFinite) {
   const core::Scene night = scene_with(-40.0, 40.0, 30.0);
   for (double exposure : {0.0, -1.0, std::nan(""), static_cast<double>(INFINITY)}) {
-    const auto plan = core::night::plan_night_sky(night, air().t, air().ms, inputs(exposure));
+    const auto plan = core::night::plan_night_sky(night, air().transmittance, air().multiple_scattering, inputs(exposure));
     EXPECT_FALSE(plan.points) << exposure;
     EXPECT_FALSE(plan.moon_disc || plan.moonlit_sky || plan.background) << exposure;
   }
@@ -185,6 +174,6 @@ TEST(NightPlan, DegenerateInputsDrawNothingAndStayFinite) {
   // A degenerate camera (zero solid angle) is clamped.
   auto zero = inputs(1.0);
   zero.pixel_solid_angle_sr = 0.0;
-  const auto p = core::night::plan_night_sky(night, air().t, air().ms, zero);
+  const auto p = core::night::plan_night_sky(night, air().transmittance, air().multiple_scattering, zero);
   EXPECT_FALSE(std::isnan(p.limiting_magnitude));
 }

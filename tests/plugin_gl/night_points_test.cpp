@@ -52,18 +52,8 @@ constexpr float kEyeAltitudeM = 1000.0f;
 constexpr double kPi = 3.14159265358979323846;
 
 // The air and its tables, computed once (CPU, the Renderer's sizes).
-struct Tables {
-  twin::AtmosphereParameters atm;
-  twin::Lut2D transmittance, multiple_scattering;
-};
-const Tables& tables() {
-  static const Tables t = [] {
-    Tables r;
-    r.atm = core::make_atmosphere_parameters(core::AtmosphereSettings{}, 6371000.0, 1.0);
-    r.transmittance = core::compute_transmittance_table(r.atm, core::kTransmittanceWidth, core::kTransmittanceHeight);
-    r.multiple_scattering = core::compute_multiple_scattering_table(r.atm, r.transmittance);
-    return r;
-  }();
+const core::ModelTables& tables() {
+  static const core::ModelTables t = core::compute_model_tables(core::AtmosphereSettings{}, 6371000.0);
   return t;
 }
 
@@ -106,7 +96,7 @@ class NightPoints : public ::testing::Test {
     textures_.multiple_scattering = upload(tables().multiple_scattering);
     textures_.multiple_scattering_size =
         glm::vec2(tables().multiple_scattering.width, tables().multiple_scattering.height);
-    in_.atmosphere = tables().atm;
+    in_.atmosphere = tables().atmosphere;
     in_.eye_altitude_m = kEyeAltitudeM;
     in_.sun_direction_enu = glm::vec3(0.0f, -std::cos(0.3f), -std::sin(0.3f));  // 17° below the horizon
     in_.viewport[0] = 0;
@@ -169,9 +159,9 @@ class NightPoints : public ::testing::Test {
     double cos_axis = 1.0;
     const glm::dvec3 dir = direction_at(px, py, &cos_axis);
     const auto& t = tables();
-    const glm::vec3 tr = twin::transmittance_to_sun(t.atm, t.transmittance,
+    const glm::vec3 tr = twin::transmittance_to_sun(t.atmosphere, t.transmittance,
                                                     glm::vec2(t.transmittance.width, t.transmittance.height),
-                                                    t.atm.bottom_radius_m + kEyeAltitudeM, static_cast<float>(dir.z));
+                                                    t.atmosphere.bottom_radius_m + kEyeAltitudeM, static_cast<float>(dir.z));
     const double omega = night::pixel_solid_angle_sr(std::tan(glm::radians(kFovY) / 2.0), in_.viewport[3], cos_axis);
     return glm::dvec3(lux) * glm::dvec3(tr) / omega * static_cast<double>(in_.exposure);
   }
@@ -478,7 +468,7 @@ TEST_F(NightPoints, GlStateIsRestoredOnDefaultAndUnusualHostState) {
 TEST_F(NightPoints, DisplayEncodedOutputOnADarkSky) {
   // The sky-view table of this view (CPU; the GPU builds the same texels).
   const auto& t = tables();
-  const twin::Lut2D sky_view = core::compute_sky_view_table(t.atm, t.transmittance, t.multiple_scattering,
+  const twin::Lut2D sky_view = core::compute_sky_view_table(t.atmosphere, t.transmittance, t.multiple_scattering,
                                                             kEyeAltitudeM, in_.sun_direction_enu.z);
   GLuint sky_view_texture = 0;
   glGenTextures(1, &sky_view_texture);
@@ -493,7 +483,7 @@ TEST_F(NightPoints, DisplayEncodedOutputOnADarkSky) {
   // A V = 2 star on a sky 17° after sunset, exposed so the sky is dark.
   const double px = 80.3, py = 60.7;
   const glm::dvec3 dir = direction_at(px, py);
-  const glm::vec3 sky_at_star = core::sky_radiance_from_table(t.atm, t.transmittance, sky_view, kEyeAltitudeM,
+  const glm::vec3 sky_at_star = core::sky_radiance_from_table(t.atmosphere, t.transmittance, sky_view, kEyeAltitudeM,
                                                               glm::vec3(dir), in_.sun_direction_enu);
   in_.exposure = static_cast<float>(0.02 / std::max(night::rgb_luminance(glm::dvec3(sky_at_star)), 1e-12));
   in_.output_encoding = 1;
@@ -521,9 +511,9 @@ TEST_F(NightPoints, DisplayEncodedOutputOnADarkSky) {
         const glm::vec3 d = glm::vec3(direction_at(x + 0.5, wy + 0.5));
         const glm::vec3 sky =
             method == atmo::gl::SkyMethod::kLut
-                ? core::sky_radiance_from_table(t.atm, t.transmittance, sky_view, kEyeAltitudeM, d,
+                ? core::sky_radiance_from_table(t.atmosphere, t.transmittance, sky_view, kEyeAltitudeM, d,
                                                 in_.sun_direction_enu)
-                : twin::sky_radiance(t.atm, t.transmittance, glm::vec2(t.transmittance.width, t.transmittance.height),
+                : twin::sky_radiance(t.atmosphere, t.transmittance, glm::vec2(t.transmittance.width, t.transmittance.height),
                                      t.multiple_scattering,
                                      glm::vec2(t.multiple_scattering.width, t.multiple_scattering.height),
                                      kEyeAltitudeM, d, in_.sun_direction_enu, in_.lut.march_sky_steps);
