@@ -22,18 +22,23 @@
 // BM_NightSky_*: the LUT sky pass (gl::Renderer::draw_sky, linked statically)
 // with the night terms of PassInputs::night filled as plugin/abi/
 // night_sky_inputs.cpp add_night_terms does, at Innsbruck, 2024-12-10T19:00Z
-// (the Moon ~50 degrees up, near the meridian; the Sun ~63 degrees below the
-// horizon): the bodies from core::compute_sky_bodies, the background's
-// rotation from the AstrometryFrame at the same eye and time (enu_from_cirs,
-// as the plugin). Argument `terms`: the bits of gl::NightTerms (0 none, 4
-// background, 2 Moon disc, 1 moonlit sky, 7 all); `view`: 0 the other
-// passes' camera (looking north, level, lower half host geometry; the Moon
-// behind), 1 looking at the Moon (its disc at the image centre, all sky).
-// BM_NightSky_MoonTableRebuild moves the Moon's elevation sine by 3e-3
-// (> Renderer::kMoonSkyViewElevationStep) every iteration, so draw_sky
-// rebuilds the moonlit sky-view table each time; BM_NightSky_MoonTableOnly
-// times that rebuild alone (Renderer::night_sky_textures in DISPLAY_SRGB
-// builds the moonlit table and nothing else, the day table being current).
+// (the Moon 50.1 degrees up at azimuth 181 degrees, 73 % lit; the Sun 35.5
+// degrees below the horizon): the bodies from core::compute_sky_bodies, the
+// background's rotation from the AstrometryFrame at the same eye and time
+// (enu_from_cirs, as the plugin). 192x108 sky-view tables, as BM_Lut_Sky/1.
+// Argument `terms`: the bits of gl::NightTerms (0 none, 4 background, 2 Moon
+// disc, 1 moonlit sky, 7 all); `view`: 0 the other passes' camera (looking
+// north, level, lower half host geometry; the Moon behind), 1 looking at the
+// Moon (its disc at the image centre, all sky). The moonlit table is built
+// before the timed loop; moon_builds/it (tables built per iteration) shows it
+// is not rebuilt in it. BM_NightSky_MoonTableRebuild moves the Moon's
+// elevation sine by 3e-3 (> Renderer::kMoonSkyViewElevationStep) every
+// iteration, so draw_sky rebuilds the moonlit table each time;
+// BM_NightSky_MoonTableOnly times that rebuild alone (Renderer::
+// night_sky_textures in DISPLAY_SRGB builds the moonlit table and nothing
+// else, the day table being current). After the timed loop one more draw on
+// a cleared buffer checks what the terms drew (sky_px, sky_mean_e3,
+// centre_e3).
 #include <benchmark/benchmark.h>
 #include <glad/gl.h>
 
@@ -432,7 +437,7 @@ ATMO_GPU_BENCH(BM_NightPoints_Down, 1.0)->ArgNames({"V10", "srgb"})->Args({65, 0
 
 // ---- The sky pass's night terms (gl::Renderer::draw_sky) ----
 
-constexpr double kMoonlitPosixS = 1733857200.0;  // 2024-12-10T19:00:00Z: the Moon ~50 degrees up, due south
+constexpr double kMoonlitPosixS = 1733857200.0;  // 2024-12-10T19:00:00Z: the Moon 50 degrees up, due south
 constexpr float kMoonlitExposure = 6.67f;        // EV100 -3, the moonlit night scenario's: 1 / (1.2 * 2^-3)
 
 GLADapiproc load_gl(void* user, const char* name) {
@@ -585,6 +590,29 @@ void run_night_sky(benchmark::State& state, NightSkyMode mode) {
   state.counters["moon_builds/it"] = double(after.moon_sky_view_builds - before.moon_sky_view_builds) / iterations;
   state.counters["sky_builds/it"] = double(after.sky_view_builds - before.sky_view_builds) / iterations;
   state.counters["moon_builds_total"] = double(after.moon_sky_view_builds);
+  if (mode == kMoonTableOnly) return;
+  // That the terms were drawn: one more draw on a cleared buffer; the mean of the sky pixels (those the
+  // pass wrote, alpha 1) and the image centre (the Moon's disc in view 1), output units x 1000.
+  in.night.moon_direction_enu = moon;
+  const float clear[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  glClearBufferfv(GL_COLOR, 0, clear);
+  if (!n.renderer.draw_sky(in, &error)) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  const atmo::support::Image img = w.target->read_color();
+  double sum = 0.0;
+  std::size_t sky = 0;
+  for (std::size_t i = 0; i < img.pixel_count(); ++i) {
+    if (img.rgba[4 * i + 3] <= 0.0f) continue;
+    sum += (img.rgba[4 * i] + img.rgba[4 * i + 1] + img.rgba[4 * i + 2]) / 3.0;
+    ++sky;
+  }
+  const std::size_t centre = std::size_t(kHeight / 2) * kWidth + kWidth / 2;
+  state.counters["sky_px"] = double(sky);
+  state.counters["sky_mean_e3"] = sky ? 1e3 * sum / double(sky) : 0.0;
+  state.counters["centre_e3"] = 1e3 * (img.rgba[4 * centre] + img.rgba[4 * centre + 1] + img.rgba[4 * centre + 2]) / 3.0;
+  glClearBufferfv(GL_COLOR, 0, clear);
 }
 
 void BM_NightSky(benchmark::State& s) { run_night_sky(s, kSteady); }
