@@ -107,9 +107,10 @@ const core::astro::AstrometryFrame* view_astrometry(AtmoContext_T* c, AtmoView_T
 bool night_points_invisible(const AtmoContext_T* c, const core::night::NightPlan& plan) {
   if (!plan.points) return true;
   if (plan.limiting_magnitude >= core::night::kBrightestStarMagnitude) return false;
-  constexpr double kPlanetMagnitudeValidityS = 86400.0;
-  return c->have_brightest_planet && std::abs(c->utc_posix_s - c->brightest_planet_utc_posix_s) <= kPlanetMagnitudeValidityS &&
-         c->brightest_planet_v - 0.05 > plan.limiting_magnitude;
+  // The Sun moves 0.25° a minute: the planets' own skies change little in that time.
+  constexpr double kDaylightPlanetCheckS = 60.0;
+  return c->have_daylight_planet_check && !c->daylight_planet_visible &&
+         std::abs(c->utc_posix_s - c->daylight_planet_check_utc_posix_s) <= kDaylightPlanetCheckS;
 }
 
 bool collect_night_points(AtmoContext_T* c, AtmoView_T& view, const core::Scene& scene, std::string* error) {
@@ -131,16 +132,28 @@ bool collect_night_points(AtmoContext_T* c, AtmoView_T& view, const core::Scene&
   cut.limiting_magnitude = view.night_plan.limiting_magnitude;
   cut.earth_radius_m = static_cast<double>(scene.atmosphere.bottom_radius_m);
   core::night::visible_point_sources(*c->star_field, *frame, cut, nullptr, &view.night_points);
-  if (c->star_field->planets_valid()) {
-    const core::night::StarFrameTransform transform = core::night::star_frame_transform(*frame);
-    double brightest = 1e9;
-    for (int k = 0; k < core::night::StarField::kPlanetCount; ++k) {
-      core::night::PointSource planet;
-      if (c->star_field->cached_planet(transform, k, &planet)) brightest = std::min(brightest, double(planet.v_mag));
-    }
-    c->brightest_planet_v = brightest;
-    c->brightest_planet_utc_posix_s = c->utc_posix_s;
-    c->have_brightest_planet = brightest < 1e8;
+  const core::night::NightPlan& plan = view.night_plan;
+  if (plan.limiting_magnitude < core::night::kBrightestStarMagnitude) {
+    // Daylight: only planets passed the darkest-sky limit. Each is kept only if it can change a pixel of the sky
+    // in its own direction (Venus near the Sun is lost in the aureole), the sky from the CPU twin's march.
+    const twin::Lut2D& t = c->lut;
+    const twin::Lut2D& ms = c->multiple_scattering;
+    bool any = false;
+    auto hidden = [&](const core::night::PointSource& p) {
+      const glm::vec3 sky = twin::sky_radiance(scene.atmosphere, t, glm::vec2(t.width, t.height), ms,
+                                               glm::vec2(ms.width, ms.height),
+                                               static_cast<float>(std::max(scene.eye_altitude_m, 1.0)),
+                                               p.direction_enu, glm::vec3(scene.sun_direction_enu), 16);
+      const double local = 0.7 * core::night::rgb_luminance(glm::dvec3(sky));  // erring dark, as the plan
+      const bool invisible = double(p.v_mag) > core::night::point_limiting_magnitude(local, plan.inputs);
+      any = any || !invisible;
+      return invisible;
+    };
+    view.night_points.erase(std::remove_if(view.night_points.begin(), view.night_points.end(), hidden),
+                            view.night_points.end());
+    c->have_daylight_planet_check = true;
+    c->daylight_planet_visible = any;
+    c->daylight_planet_check_utc_posix_s = c->utc_posix_s;
   }
   return true;
 }

@@ -63,13 +63,13 @@ struct AtmoContext_T {
   // why, and the planets are still drawn).
   std::unique_ptr<atmo::core::night::StarField> star_field;
   std::string star_field_error;
-  // The brightest planet's V magnitude (horizon ignored) when the night pass
-  // last computed the planets, and the UTC it was for: in daylight, when only
-  // a planet could show, the pass compares the limit with this before doing
-  // any astrometry. Planet magnitudes change by < 0.05 mag a day.
-  double brightest_planet_v = 0.0;
-  double brightest_planet_utc_posix_s = 0.0;
-  bool have_brightest_planet = false;
+  // Daylight, when only a planet could show (the plan's limit brighter than
+  // Sirius): the last check of the planets against the sky in their own
+  // directions, and its UTC. While it is under kDaylightPlanetCheckS old and
+  // found none visible, the night pass does nothing at all (no astrometry).
+  bool have_daylight_planet_check = false;
+  bool daylight_planet_visible = false;
+  double daylight_planet_check_utc_posix_s = 0.0;
   std::vector<AtmoView_T*> views;
 };
 

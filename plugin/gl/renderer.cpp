@@ -101,8 +101,9 @@ bool Renderer::init(ProcLoader loader, void* user, std::string* error) {
   return true;
 }
 
-bool Renderer::build(Program* p, const char* fragment_path, SkyMethod method, std::string* error) {
-  const std::string defines = "#define ATMO_METHOD " + std::to_string(static_cast<int>(method)) + "\n";
+bool Renderer::build(Program* p, const char* fragment_path, SkyMethod method, std::string* error, int night_terms) {
+  const std::string defines = "#define ATMO_METHOD " + std::to_string(static_cast<int>(method)) + "\n" +
+                              "#define ATMO_NIGHT_TERMS " + std::to_string(night_terms) + "\n";
   p->program = build_program("fullscreen.vert", fragment_path, defines, error);
   if (!p->program) return false;
   auto loc = [&](const char* name) { return glGetUniformLocation(p->program, name); };
@@ -144,6 +145,8 @@ bool Renderer::build(Program* p, const char* fragment_path, SkyMethod method, st
 void Renderer::destroy() {
   for (int m = 0; m < kMethods; ++m) {
     if (sky_[m].program) glDeleteProgram(sky_[m].program);
+    for (Program& v : sky_night_[m])
+      if (v.program) glDeleteProgram(v.program);
     if (aerial_[m].program) glDeleteProgram(aerial_[m].program);
   }
   for (Program* p : {&sky_view_builder_, &aerial_volume_builder_})
@@ -159,7 +162,10 @@ void Renderer::destroy() {
 }
 
 void Renderer::forget() {
-  for (int m = 0; m < kMethods; ++m) sky_[m] = aerial_[m] = Program{};
+  for (int m = 0; m < kMethods; ++m) {
+    sky_[m] = aerial_[m] = Program{};
+    for (Program& v : sky_night_[m]) v = Program{};
+  }
   sky_view_builder_ = aerial_volume_builder_ = Program{};
   vao_ = fbo_ = transmittance_texture_ = multiple_scattering_texture_ = 0;
   sky_view_texture_ = aerial_inscatter_texture_ = aerial_transmittance_texture_ = moon_sky_view_texture_ = 0;
@@ -367,7 +373,8 @@ bool Renderer::ensure_aerial_volume(const PassInputs& in, std::string* error) {
   return true;
 }
 
-bool Renderer::draw(const Program& p, const PassInputs& in, int steps, bool dual_source_blend, std::string* error) {
+bool Renderer::draw(const Program& p, const PassInputs& in, int steps, bool dual_source_blend, std::string* error,
+                    const int* scissor) {
   {
     GlStateGuard guard(kUnitsUsed);
     guard.use_single_draw_buffer();
@@ -375,6 +382,12 @@ bool Renderer::draw(const Program& p, const PassInputs& in, int steps, bool dual
     set_uniforms(p, in, steps);
     bind_textures(in.depth_texture);
     glViewport(in.viewport[0], in.viewport[1], in.viewport[2], in.viewport[3]);
+    GLint scissor_box[4] = {0, 0, 0, 0};  // the guard restores the enable, not the box
+    if (scissor) {
+      glGetIntegerv(GL_SCISSOR_BOX, scissor_box);
+      glEnable(GL_SCISSOR_TEST);
+      glScissor(scissor[0], scissor[1], scissor[2], scissor[3]);
+    }
     if (dual_source_blend) {
       glEnablei(GL_BLEND, 0);
       set_blend_of_buffer0(GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE, GL_FUNC_ADD, GL_FUNC_ADD);
@@ -383,8 +396,50 @@ bool Renderer::draw(const Program& p, const PassInputs& in, int steps, bool dual
     }
     glBindVertexArray(vao_);
     glDrawArrays(GL_TRIANGLES, 0, 3);
+    if (scissor) glScissor(scissor_box[0], scissor_box[1], scissor_box[2], scissor_box[3]);
   }
   return check_gl("drawing", error);
+}
+
+bool Renderer::moon_disc_window_box(const PassInputs& in, int box[4]) const {
+  const twin::MoonDisc& moon = in.night.moon;
+  const glm::dvec3 c = glm::normalize(glm::dvec3(moon.direction));
+  const glm::dmat3 view_from_enu = glm::transpose(glm::dmat3(in.enu_from_view));
+  const glm::dmat4 clip_from_view = glm::inverse(glm::dmat4(in.view_from_clip));
+  // The disc's outline, widened by the limb's one-pixel ramp and a pixel more.
+  const double r = static_cast<double>(moon.angular_radius_rad) + 2.0 * static_cast<double>(in.night.pixel_angle_rad);
+  const glm::dvec3 a = std::abs(c.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  const glm::dvec3 u = glm::normalize(glm::cross(c, a)), v = glm::cross(c, u);
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  int behind = 0;
+  for (int k = 0; k < 16; ++k) {
+    const double t = k * (2.0 * 3.14159265358979323846 / 16.0);
+    // A polygon of 16 sides circumscribing the circle: its vertices are r / cos(pi / 16) away.
+    const double rr = r / std::cos(3.14159265358979323846 / 16.0);
+    const glm::dvec3 p = c * std::cos(rr) + (u * std::cos(t) + v * std::sin(t)) * std::sin(rr);
+    const glm::dvec4 clip = clip_from_view * glm::dvec4(view_from_enu * p, 0.0);
+    if (!(clip.w > 1e-9)) {
+      ++behind;
+      continue;
+    }
+    for (int i = 0; i < 2; ++i) {
+      const double window = in.viewport[i] + (clip[i] / clip.w * 0.5 + 0.5) * in.viewport[i + 2];
+      lo[i] = std::min(lo[i], window);
+      hi[i] = std::max(hi[i], window);
+    }
+  }
+  if (behind == 16) {  // wholly behind the camera: nothing of the disc to draw
+    box[0] = box[1] = box[2] = box[3] = 0;
+    return true;
+  }
+  if (behind > 0) return false;  // across the camera's plane: no box (drawn whole)
+  for (int i = 0; i < 2; ++i) {
+    const double x0 = std::max(std::floor(lo[i]) - 1.0, double(in.viewport[i]));
+    const double x1 = std::min(std::ceil(hi[i]) + 1.0, double(in.viewport[i] + in.viewport[i + 2]));
+    box[i] = static_cast<int>(x0);
+    box[i + 2] = std::max(static_cast<int>(x1 - x0), 0);
+  }
+  return true;
 }
 
 bool Renderer::draw_sky(const PassInputs& in, std::string* error) {
@@ -394,7 +449,24 @@ bool Renderer::draw_sky(const PassInputs& in, std::string* error) {
                               (in.method == SkyMethod::kAnalytic && in.analytic_weight < 1.0f);
   if (needs_sky_view && !ensure_sky_view(in, error)) return false;
   if (!ensure_moon_sky_view(in, error)) return false;
-  return draw(sky_[static_cast<int>(in.method)], in, settings_.march_sky_steps, false, error);
+  const int m = static_cast<int>(in.method), bits = in.night.bits();
+  auto variant = [&](int b) -> const Program* {
+    if (b == 0) return &sky_[m];
+    if (sky_night_[m][b].program == 0) {
+      GlStateGuard guard(kUnitsUsed);
+      if (!build(&sky_night_[m][b], "sky.frag", in.method, error, b)) return nullptr;
+    }
+    return &sky_night_[m][b];
+  };
+  // The Moon's disc covers a few pixels: the whole sky is drawn without it and only the disc's box with it
+  // (llvmpipe would run the disc's code for every pixel); a disc reaching behind the camera is drawn whole.
+  int box[4];
+  const bool boxed = (bits & 2) != 0 && moon_disc_window_box(in, box);
+  const Program* whole = variant(boxed ? (bits & ~2) : bits);
+  if (!whole || !draw(*whole, in, settings_.march_sky_steps, false, error)) return false;
+  if (!boxed || box[2] == 0 || box[3] == 0) return true;
+  const Program* disc = variant(bits);
+  return disc && draw(*disc, in, settings_.march_sky_steps, false, error, box);
 }
 
 bool Renderer::night_sky_textures(const PassInputs& in, NightSkyTextures* out, std::string* error) {

@@ -154,10 +154,17 @@ class Renderer {
     GLint preetham[6];
     NightTermUniforms night;
   };
-  bool build(Program* p, const char* fragment_path, SkyMethod method, std::string* error);
+  // night_terms: the ATMO_NIGHT_TERMS bits of sky_pixel.glsl's variant (sky.frag only).
+  bool build(Program* p, const char* fragment_path, SkyMethod method, std::string* error, int night_terms = 0);
   void set_uniforms(const Program& p, const PassInputs& in, int steps) const;
   void bind_textures(GLuint depth_texture) const;
-  bool draw(const Program& p, const PassInputs& in, int steps, bool dual_source_blend, std::string* error);
+  // scissor: x, y, width, height in window pixels, or null for the whole viewport.
+  bool draw(const Program& p, const PassInputs& in, int steps, bool dual_source_blend, std::string* error,
+            const int* scissor = nullptr);
+  // The window-space box (x, y, width, height, within the viewport) that holds the Moon's disc of
+  // in.night (empty when the disc is off screen or wholly behind the camera); false when the disc
+  // straddles the camera's plane (then it is drawn with the whole sky).
+  bool moon_disc_window_box(const PassInputs& in, int box[4]) const;
   bool ensure_sky_view(const PassInputs& in, std::string* error);
   // The moonlit sky-view table for in.night (only when in.night.moonlit_sky):
   // rebuilt when the Moon's elevation sine moved by more than
@@ -175,7 +182,11 @@ class Renderer {
   static constexpr int kMethods = 3;
   // One variant per SkyMethod (indexed by its value); the analytic tier's
   // aerial perspective uses the LUT variant.
-  Program sky_[kMethods], aerial_[kMethods], sky_view_builder_, aerial_volume_builder_;
+  // sky_: the sky pass without night terms (built by init); sky_night_[m][bits]: with exactly the terms
+  // `bits` (NightTerms::bits()), built the first time a frame needs it, so a frame pays only for what it draws.
+  static constexpr int kNightTermVariants = 8;
+  Program sky_[kMethods], sky_night_[kMethods][kNightTermVariants], aerial_[kMethods], sky_view_builder_,
+      aerial_volume_builder_;
   GLuint vao_ = 0, fbo_ = 0;
   GLuint transmittance_texture_ = 0, multiple_scattering_texture_ = 0;
   GLuint sky_view_texture_ = 0, aerial_inscatter_texture_ = 0, aerial_transmittance_texture_ = 0;

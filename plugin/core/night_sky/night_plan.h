@@ -7,8 +7,8 @@
 // drawn when".
 //
 // Every decision compares an upper bound of what a term adds to a pixel with
-// the smallest increase the output can show on black (the most sensitive
-// place), so a term is skipped only where it is invisible; the stars' limit
+// the smallest increase the output can show on the darkest sky in view
+// (estimated erring dark), so a term is skipped only where it is invisible; the stars' limit
 // comes from display_limiting_magnitude against an estimate of the darkest
 // sky in view that errs dark (more stars than visible are drawn, never fewer).
 // As the sky darkens these limits move continuously: stars and the
@@ -47,11 +47,20 @@ struct NightPlanInputs {
   bool method_has_sky_view = true;     // LUT / ANALYTIC: a moonlit sky-view table can be built
 };
 
+// The faintest point source (V) that can change a pixel of a background of
+// background_cd_m2 at this exposure and encoding (DISPLAY_SRGB: one display
+// step; LINEAR_HDR: visible_increase_cd_m2): display_limiting_magnitude with
+// the plan's thresholds. -inf where nothing can show.
+double point_limiting_magnitude(double background_cd_m2, const NightPlanInputs& inputs);
+
 struct NightPlan {
   // The smallest output increase that can be seen on black, in exposed
   // linear units (x exposure x cd/m^2): half a display step (0.5/255 through
   // encode_display_srgb), or 1e-4 for a linear HDR target.
   double visible_step_linear = 0.0;
+  // The smallest increase (cd/m^2) visible on the darkest sky the Sun leaves
+  // in view: what the Moon, moonlit-sky and background bounds are compared with.
+  double visible_increase_cd_m2 = 0.0;
   // Estimate of the darkest sky in view (cd/m^2): 0.3 x the zenith's (sun and
   // Moon lit, from the CPU twin's march) plus the background's smallest value.
   double darkest_sky_cd_m2 = 0.0;
@@ -70,11 +79,18 @@ struct NightPlan {
   // near the ground, and one light keeps the volume's cost.
   double sun_zenith_cd_m2 = 0.0;
   double moon_zenith_cd_m2 = 0.0;
+  NightPlanInputs inputs;  // what the plan was made for (the point pass checks planets against their own sky)
   bool moon_lights_haze() const { return moonlit_sky && moon_zenith_cd_m2 > sun_zenith_cd_m2; }
 };
 
 // The visible step of the output on black, exposed linear units.
 double visible_step_linear(bool display_encoded);
+// The smallest increase (cd/m^2) visible on a background of background_cd_m2:
+// DISPLAY_SRGB half a display step above the background's encoded value
+// (infinite where the display is saturated); LINEAR_HDR the larger of
+// visible_step_linear / exposure and 0.5 % of the background (half the
+// eye's ~1 % daylight contrast threshold).
+double visible_increase_cd_m2(double background_cd_m2, double exposure, bool display_encoded);
 
 // `transmittance` and `multiple_scattering` are the context's tables (the
 // darkest-sky estimate marches the zenith on the CPU twin, 16 steps, about
