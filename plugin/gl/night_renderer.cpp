@@ -9,32 +9,16 @@
 
 #include "core/night_sky/star_photometry.h"
 #include "gl/gl_state_guard.h"
+#include "gl/pass_uniforms.h"
 #include "gl/shader_program.h"
 
 namespace atmo::gl {
 
 namespace {
-// The same units as Renderer's passes.
-constexpr GLuint kTransmittanceUnit = 0;
-constexpr GLuint kDepthUnit = 1;
-constexpr GLuint kMultipleScatteringUnit = 2;
-constexpr GLuint kSkyViewUnit = 3;
-constexpr int kUnitsUsed = kMoonSkyViewUnit + 1;
+constexpr int kUnitsUsed = kPassUnitsUsed;
 constexpr std::size_t kMinCapacity = 1024;
 // GL_POINT_SMOOTH: compatibility-profile state, absent from the core header.
 constexpr GLenum kPointSmooth = 0x0B10;
-
-bool check_gl(const char* what, std::string* error) {
-  GLenum e = glGetError();
-  if (e == GL_NO_ERROR) return true;
-  if (error) *error = "GL error 0x" + [e] {
-    char buf[16];
-    std::snprintf(buf, sizeof buf, "%04X", e);
-    return std::string(buf);
-  }() + " while " + what;
-  while (glGetError() != GL_NO_ERROR) {}
-  return false;
-}
 }  // namespace
 
 int NightRenderer::point_size_px() { return 2 * core::night::kStarFootprintRadiusPx + 1; }
@@ -72,15 +56,7 @@ bool NightRenderer::init(std::string* error) {
   glEnableVertexAttribArray(1);
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
                         reinterpret_cast<const void*>(offsetof(core::night::PointSource, illuminance_rgb_lux)));
-  glGenSamplers(1, &linear_sampler_);
-  glSamplerParameteri(linear_sampler_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glSamplerParameteri(linear_sampler_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glSamplerParameteri(linear_sampler_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glSamplerParameteri(linear_sampler_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  glGenSamplers(1, &nearest_sampler_);
-  glSamplerParameteri(nearest_sampler_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glSamplerParameteri(nearest_sampler_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glSamplerParameteri(nearest_sampler_, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  create_pass_samplers(&linear_sampler_, &nearest_sampler_);
   std::string gl_error;
   if (!check_gl("creating the night renderer's objects", &gl_error)) {
     if (error) *error = "night renderer: " + gl_error;
@@ -95,36 +71,12 @@ bool NightRenderer::build(Program* p, SkyMethod method, std::string* error) {
   p->program = build_program("night_points.vert", "night_points.frag", defines, error);
   if (!p->program) return false;
   auto loc = [&](const char* name) { return glGetUniformLocation(p->program, name); };
-  p->atmosphere = locate_atmosphere_uniforms(p->program);
-  p->transmittance = loc("u_transmittance");
-  p->transmittance_size = loc("u_transmittance_size");
-  p->multiple_scattering = loc("u_multiple_scattering");
-  p->multiple_scattering_size = loc("u_multiple_scattering_size");
-  p->depth = loc("u_depth");
-  p->has_depth = loc("u_has_depth");
-  p->depth_convention = loc("u_depth_convention");
-  p->log_far = loc("u_log_far_m");
-  p->log_coefficient = loc("u_log_coefficient");
-  p->view_from_clip = loc("u_view_from_clip");
+  p->pass = locate_pass_uniforms(p->program);
   p->clip_from_view = loc("u_clip_from_view");
-  p->enu_from_view = loc("u_enu_from_view");
   p->view_from_enu = loc("u_view_from_enu");
-  p->viewport = loc("u_viewport");
   p->draw_viewport = loc("u_draw_viewport");
   p->point_size = loc("u_point_size");
   p->footprint_sigma = loc("u_footprint_sigma_px");
-  p->eye_altitude = loc("u_eye_altitude_m");
-  p->sun_direction = loc("u_sun_direction_enu");
-  p->exposure = loc("u_exposure");
-  p->output_encoding = loc("u_output_encoding");
-  p->steps = loc("u_steps");
-  p->sky_view = loc("u_sky_view");
-  p->sky_view_size = loc("u_sky_view_size");
-  p->analytic_weight = loc("u_analytic_weight");
-  const char* preetham_names[6] = {"u_preetham.A", "u_preetham.B", "u_preetham.C",
-                                   "u_preetham.D", "u_preetham.E", "u_preetham.zenith_Yxy"};
-  for (int i = 0; i < 6; ++i) p->preetham[i] = loc(preetham_names[i]);
-  p->night = locate_night_term_uniforms(p->program);
   return true;
 }
 
@@ -190,40 +142,17 @@ bool NightRenderer::draw_points(const PassInputs& in, const NightSkyTextures& te
     glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(count * sizeof(core::night::PointSource)), sources);
 
     glUseProgram(p.program);
-    set_atmosphere_uniforms(p.atmosphere, in.atmosphere);
-    glUniform1i(p.transmittance, static_cast<GLint>(kTransmittanceUnit));
-    glUniform2fv(p.transmittance_size, 1, glm::value_ptr(textures.transmittance_size));
-    glUniform1i(p.multiple_scattering, static_cast<GLint>(kMultipleScatteringUnit));
-    glUniform2fv(p.multiple_scattering_size, 1, glm::value_ptr(textures.multiple_scattering_size));
-    glUniform1i(p.depth, static_cast<GLint>(kDepthUnit));
-    glUniform1i(p.has_depth, in.depth_texture != 0 ? 1 : 0);
-    glUniform1i(p.depth_convention, in.depth_convention);
-    glUniform1f(p.log_far, in.log_far_m);
-    glUniform1f(p.log_coefficient, in.log_coefficient);
-    glUniformMatrix4fv(p.view_from_clip, 1, GL_FALSE, glm::value_ptr(in.view_from_clip));
-    glUniformMatrix4fv(p.clip_from_view, 1, GL_FALSE, glm::value_ptr(clip_from_view));
-    glUniformMatrix3fv(p.enu_from_view, 1, GL_FALSE, glm::value_ptr(in.enu_from_view));
-    glUniformMatrix3fv(p.view_from_enu, 1, GL_FALSE, glm::value_ptr(view_from_enu));
-    glUniform4f(p.viewport, static_cast<float>(in.viewport[0]), static_cast<float>(in.viewport[1]),
-                static_cast<float>(in.viewport[2]), static_cast<float>(in.viewport[3]));
-    glUniform4fv(p.draw_viewport, 1, draw_viewport);
-    glUniform1f(p.point_size, point_size);
-    glUniform1f(p.footprint_sigma, static_cast<float>(core::night::kStarFootprintSigmaPx));
-    glUniform1f(p.eye_altitude, in.eye_altitude_m);
-    glUniform3fv(p.sun_direction, 1, glm::value_ptr(in.sun_direction_enu));
-    glUniform1f(p.exposure, in.exposure);
-    glUniform1i(p.output_encoding, in.output_encoding);
-    glUniform1i(p.steps, in.lut.march_sky_steps);
-    glUniform1i(p.sky_view, static_cast<GLint>(kSkyViewUnit));
-    glUniform2fv(p.sky_view_size, 1, glm::value_ptr(textures.sky_view_size));
-    glUniform1f(p.analytic_weight, in.analytic_weight);
-    const glm::vec3* c[6] = {&in.preetham.A, &in.preetham.B, &in.preetham.C,
-                             &in.preetham.D, &in.preetham.E, &in.preetham.zenith_Yxy};
-    for (int i = 0; i < 6; ++i) glUniform3fv(p.preetham[i], 1, glm::value_ptr(*c[i]));
     // The sky under a star, as the sky pass drew it (display output only): its night terms too.
     NightTerms night = display ? in.night : NightTerms{};
     night.moonlit_sky = night.moonlit_sky && textures.moon_sky_view != 0;
-    set_night_term_uniforms(p.night, night, textures.moon_sky_scale);
+    const PassTableSizes sizes{textures.transmittance_size, textures.multiple_scattering_size, textures.sky_view_size,
+                               textures.moon_sky_scale};
+    set_pass_uniforms(p.pass, in, sizes, in.lut.march_sky_steps, night);
+    glUniformMatrix4fv(p.clip_from_view, 1, GL_FALSE, glm::value_ptr(clip_from_view));
+    glUniformMatrix3fv(p.view_from_enu, 1, GL_FALSE, glm::value_ptr(view_from_enu));
+    glUniform4fv(p.draw_viewport, 1, draw_viewport);
+    glUniform1f(p.point_size, point_size);
+    glUniform1f(p.footprint_sigma, static_cast<float>(core::night::kStarFootprintSigmaPx));
 
     auto bind = [](GLuint unit, GLuint texture, GLuint sampler) {
       glActiveTexture(GL_TEXTURE0 + unit);

@@ -29,8 +29,7 @@
 #include "core/night_sky/point_sources.h"
 #include "gl/renderer.h"
 
-#include "gl/atmosphere_uniforms.h"
-#include "gl/night_terms_uniforms.h"
+#include "gl/pass_uniforms.h"
 
 namespace atmo::gl {
 
@@ -73,13 +72,8 @@ class NightRenderer {
  private:
   struct Program {
     GLuint program = 0;
-    AtmosphereUniforms atmosphere;
-    GLint transmittance, transmittance_size, multiple_scattering, multiple_scattering_size, depth, has_depth,
-        depth_convention, log_far, log_coefficient, view_from_clip, clip_from_view, enu_from_view, view_from_enu,
-        viewport, draw_viewport, point_size, footprint_sigma, eye_altitude, sun_direction, exposure,
-        output_encoding, steps, sky_view, sky_view_size, analytic_weight;
-    GLint preetham[6];
-    NightTermUniforms night;
+    PassUniforms pass;  // pass_common.glsl's uniforms, as the Renderer's passes
+    GLint clip_from_view = -1, view_from_enu = -1, draw_viewport = -1, point_size = -1, footprint_sigma = -1;
   };
   bool build(Program* p, SkyMethod method, std::string* error);
 

@@ -12,33 +12,7 @@
 namespace atmo::gl {
 
 namespace {
-constexpr GLuint kTransmittanceUnit = 0;
-constexpr GLuint kDepthUnit = 1;
-constexpr GLuint kMultipleScatteringUnit = 2;
-constexpr GLuint kSkyViewUnit = 3;
-constexpr GLuint kAerialInscatterUnit = 4;
-constexpr GLuint kAerialTransmittanceUnit = 5;
-static_assert(kMoonSkyViewUnit == 6, "the moonlit sky-view table follows the aerial volume's units");
-constexpr int kUnitsUsed = 7;
-
-std::string gl_error_string(GLenum e) {
-  switch (e) {
-    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
-    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
-    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
-    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
-    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
-    default: return "GL error " + std::to_string(e);
-  }
-}
-
-bool check_gl(const char* what, std::string* error) {
-  GLenum e = glGetError();
-  if (e == GL_NO_ERROR) return true;
-  if (error) *error = gl_error_string(e) + " while " + what;
-  while (glGetError() != GL_NO_ERROR) {}
-  return false;
-}
+constexpr int kUnitsUsed = kPassUnitsUsed;
 
 // Appends the raw bytes of `v` to a cache key.
 template <typename T>
@@ -76,16 +50,7 @@ bool Renderer::init(ProcLoader loader, void* user, std::string* error) {
   }
   glGenVertexArrays(1, &vao_);
   glGenFramebuffers(1, &fbo_);
-  glGenSamplers(1, &linear_sampler_);
-  glSamplerParameteri(linear_sampler_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glSamplerParameteri(linear_sampler_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glSamplerParameteri(linear_sampler_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glSamplerParameteri(linear_sampler_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  glSamplerParameteri(linear_sampler_, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-  glGenSamplers(1, &nearest_sampler_);
-  glSamplerParameteri(nearest_sampler_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glSamplerParameteri(nearest_sampler_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glSamplerParameteri(nearest_sampler_, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  create_pass_samplers(&linear_sampler_, &nearest_sampler_);
   glGenTextures(1, &transmittance_texture_);
   glGenTextures(1, &multiple_scattering_texture_);
   glGenTextures(1, &sky_view_texture_);
@@ -106,39 +71,10 @@ bool Renderer::build(Program* p, const char* fragment_path, SkyMethod method, st
                               "#define ATMO_NIGHT_TERMS " + std::to_string(night_terms) + "\n";
   p->program = build_program("fullscreen.vert", fragment_path, defines, error);
   if (!p->program) return false;
-  auto loc = [&](const char* name) { return glGetUniformLocation(p->program, name); };
-  p->atmosphere = locate_atmosphere_uniforms(p->program);
-  p->transmittance = loc("u_transmittance");
-  p->transmittance_size = loc("u_transmittance_size");
-  p->multiple_scattering = loc("u_multiple_scattering");
-  p->multiple_scattering_size = loc("u_multiple_scattering_size");
-  p->depth = loc("u_depth");
-  p->has_depth = loc("u_has_depth");
-  p->depth_convention = loc("u_depth_convention");
-  p->log_far = loc("u_log_far_m");
-  p->log_coefficient = loc("u_log_coefficient");
-  p->view_from_clip = loc("u_view_from_clip");
-  p->enu_from_view = loc("u_enu_from_view");
-  p->viewport = loc("u_viewport");
-  p->eye_altitude = loc("u_eye_altitude_m");
-  p->sun_direction = loc("u_sun_direction_enu");
-  p->exposure = loc("u_exposure");
-  p->output_encoding = loc("u_output_encoding");
-  p->steps = loc("u_steps");
-  p->sky_view = loc("u_sky_view");
-  p->sky_view_size = loc("u_sky_view_size");
-  p->aerial_inscatter = loc("u_aerial_inscatter");
-  p->aerial_transmittance = loc("u_aerial_transmittance");
-  p->aerial_range = loc("u_aerial_range_m");
-  p->aerial_slices = loc("u_aerial_slices");
-  p->aerial_grid = loc("u_aerial_grid");
-  p->slice = loc("u_slice");
-  p->sin_sun_elevation = loc("u_sin_sun_elevation");
-  p->analytic_weight = loc("u_analytic_weight");
-  const char* preetham_names[6] = {"u_preetham.A", "u_preetham.B", "u_preetham.C",
-                                   "u_preetham.D", "u_preetham.E", "u_preetham.zenith_Yxy"};
-  for (int i = 0; i < 6; ++i) p->preetham[i] = loc(preetham_names[i]);
-  p->night = locate_night_term_uniforms(p->program);
+  p->pass = locate_pass_uniforms(p->program);
+  p->aerial_grid = glGetUniformLocation(p->program, "u_aerial_grid");
+  p->slice = glGetUniformLocation(p->program, "u_slice");
+  p->sin_sun_elevation = glGetUniformLocation(p->program, "u_sin_sun_elevation");
   return true;
 }
 
@@ -221,39 +157,11 @@ void Renderer::allocate_derived_tables() {
 }
 
 void Renderer::set_uniforms(const Program& p, const PassInputs& in, int steps) const {
-  set_atmosphere_uniforms(p.atmosphere, in.atmosphere);
-  glUniform1i(p.transmittance, static_cast<GLint>(kTransmittanceUnit));
-  glUniform2fv(p.transmittance_size, 1, glm::value_ptr(transmittance_size_));
-  glUniform1i(p.multiple_scattering, static_cast<GLint>(kMultipleScatteringUnit));
-  glUniform2fv(p.multiple_scattering_size, 1, glm::value_ptr(multiple_scattering_size_));
-  glUniform1i(p.depth, static_cast<GLint>(kDepthUnit));
-  glUniform1i(p.has_depth, in.depth_texture != 0 ? 1 : 0);
-  glUniform1i(p.depth_convention, in.depth_convention);
-  glUniform1f(p.log_far, in.log_far_m);
-  glUniform1f(p.log_coefficient, in.log_coefficient);
-  glUniformMatrix4fv(p.view_from_clip, 1, GL_FALSE, glm::value_ptr(in.view_from_clip));
-  glUniformMatrix3fv(p.enu_from_view, 1, GL_FALSE, glm::value_ptr(in.enu_from_view));
-  glUniform4f(p.viewport, static_cast<float>(in.viewport[0]), static_cast<float>(in.viewport[1]),
-              static_cast<float>(in.viewport[2]), static_cast<float>(in.viewport[3]));
-  glUniform1f(p.eye_altitude, in.eye_altitude_m);
-  glUniform3fv(p.sun_direction, 1, glm::value_ptr(in.sun_direction_enu));
-  glUniform1f(p.exposure, in.exposure);
-  glUniform1i(p.output_encoding, in.output_encoding);
-  glUniform1i(p.steps, steps);
-  glUniform1i(p.sky_view, static_cast<GLint>(kSkyViewUnit));
-  glUniform2f(p.sky_view_size, static_cast<float>(settings_.sky_view_width),
-              static_cast<float>(settings_.sky_view_height));
-  glUniform1i(p.aerial_inscatter, static_cast<GLint>(kAerialInscatterUnit));
-  glUniform1i(p.aerial_transmittance, static_cast<GLint>(kAerialTransmittanceUnit));
-  glUniform1f(p.aerial_range, in.aerial_range_m);
-  glUniform1i(p.aerial_slices, settings_.aerial_slices);
+  const PassTableSizes sizes{transmittance_size_, multiple_scattering_size_,
+                             glm::vec2(settings_.sky_view_width, settings_.sky_view_height), moon_sky_scale_};
+  set_pass_uniforms(p.pass, in, sizes, steps, in.night);
   glUniform2f(p.aerial_grid, static_cast<float>(settings_.aerial_width), static_cast<float>(settings_.aerial_height));
   glUniform1f(p.sin_sun_elevation, in.sun_direction_enu.z);
-  glUniform1f(p.analytic_weight, in.analytic_weight);
-  const glm::vec3* c[6] = {&in.preetham.A, &in.preetham.B, &in.preetham.C,
-                           &in.preetham.D, &in.preetham.E, &in.preetham.zenith_Yxy};
-  for (int i = 0; i < 6; ++i) glUniform3fv(p.preetham[i], 1, glm::value_ptr(*c[i]));
-  set_night_term_uniforms(p.night, in.night, moon_sky_scale_);
 }
 
 void Renderer::bind_textures(GLuint depth_texture) const {

@@ -23,6 +23,7 @@
 
 #include "gl/atmosphere_uniforms.h"
 #include "gl/night_terms_uniforms.h"
+#include "gl/pass_uniforms.h"
 
 namespace atmo::gl {
 
@@ -144,15 +145,8 @@ class Renderer {
  private:
   struct Program {
     GLuint program = 0;
-    // Uniform locations, looked up once after linking (-1 where a shader lacks one).
-    AtmosphereUniforms atmosphere;
-    GLint transmittance, transmittance_size, multiple_scattering, multiple_scattering_size, depth, has_depth,
-        depth_convention, log_far, log_coefficient, view_from_clip, enu_from_view, viewport, eye_altitude,
-        sun_direction, exposure, output_encoding, steps;
-    GLint sky_view, sky_view_size, aerial_inscatter, aerial_transmittance, aerial_range, aerial_slices,
-        aerial_grid, slice, sin_sun_elevation, analytic_weight;
-    GLint preetham[6];
-    NightTermUniforms night;
+    PassUniforms pass;  // pass_common.glsl's uniforms, looked up once after linking
+    GLint aerial_grid = -1, slice = -1, sin_sun_elevation = -1;  // the table builders' own
   };
   // night_terms: the ATMO_NIGHT_TERMS bits of sky_pixel.glsl's variant (sky.frag only).
   bool build(Program* p, const char* fragment_path, SkyMethod method, std::string* error, int night_terms = 0);

@@ -104,4 +104,25 @@ GLuint build_program(std::string_view vertex_path, std::string_view fragment_pat
   return program;
 }
 
+namespace {
+std::string gl_error_string(GLenum e) {
+  switch (e) {
+    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+    default: return "GL error " + std::to_string(e);
+  }
+}
+}  // namespace
+
+bool check_gl(const char* what, std::string* error) {
+  GLenum e = glGetError();
+  if (e == GL_NO_ERROR) return true;
+  if (error) *error = gl_error_string(e) + " while " + what;
+  while (glGetError() != GL_NO_ERROR) {}
+  return false;
+}
+
 }  // namespace atmo::gl

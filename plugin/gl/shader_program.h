@@ -20,4 +20,9 @@ std::string expand_shader_source(std::string_view path, std::string* error);
 GLuint build_program(std::string_view vertex_path, std::string_view fragment_path, std::string_view defines,
                      std::string* error);
 
+// True if GL has no error pending; else false, *error = "<GL error name>
+// while <what>", and every pending error cleared (the passes' own check after
+// their GL work; errors the host left are cleared before it).
+bool check_gl(const char* what, std::string* error);
+
 }  // namespace atmo::gl

@@ -309,10 +309,9 @@ class LineParser {
   uint32_t number_;
 };
 
-}  // namespace
-
-std::vector<KStarsTextStar> parse_kstars_text(const std::string& text, const std::string& name) {
-  std::vector<KStarsTextStar> stars;
+// Calls fn(line, number) for each line of `text` (split at '\n', numbered from 1; a '\r' is left to fn).
+template <typename Fn>
+void for_each_line(const std::string& text, Fn&& fn) {
   size_t pos = 0;
   uint32_t number = 0;
   while (pos < text.size()) {
@@ -320,9 +319,17 @@ std::vector<KStarsTextStar> parse_kstars_text(const std::string& text, const std
     if (eol == std::string::npos) eol = text.size();
     std::string line = text.substr(pos, eol - pos);
     pos = eol + 1;
-    ++number;
+    fn(std::move(line), ++number);
+  }
+}
+
+}  // namespace
+
+std::vector<KStarsTextStar> parse_kstars_text(const std::string& text, const std::string& name) {
+  std::vector<KStarsTextStar> stars;
+  for_each_line(text, [&](std::string line, uint32_t number) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty() || line[0] == '#') continue;
+    if (line.empty() || line[0] == '#') return;
     LineParser p(line, name, number);
     if (line.size() < 60) p.fail(0, line.size(), "star line", "is shorter than 60 columns");
     for (char c : line)
@@ -370,7 +377,7 @@ std::vector<KStarsTextStar> parse_kstars_text(const std::string& text, const std
       }
     }
     stars.push_back(std::move(s));
-  }
+  });
   if (stars.empty()) throw FormatError(name + ": no star lines");
   return stars;
 }
@@ -517,15 +524,8 @@ BscCrossmatch crossmatch_bsc(const std::vector<OutputStar>& stars, const std::st
 
   BscCrossmatch x;
   std::vector<BscMatch> matches;
-  size_t pos = 0;
-  uint32_t number = 0;
-  while (pos < text.size()) {
-    size_t eol = text.find('\n', pos);
-    if (eol == std::string::npos) eol = text.size();
-    std::string line = text.substr(pos, eol - pos);
-    pos = eol + 1;
-    ++number;
-    if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t")] == '#') continue;
+  for_each_line(text, [&](const std::string& line, uint32_t number) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t")] == '#') return;
     // Dec RA V "name" BSN HD SAO
     double dec = 0.0, ra_h = 0.0, v = 0.0;
     size_t q1 = line.find('"'), q2 = q1 == std::string::npos ? q1 : line.find('"', q1 + 1);
@@ -539,7 +539,7 @@ BscCrossmatch crossmatch_bsc(const std::vector<OutputStar>& stars, const std::st
     auto it = hd > 0 ? by_hd.find(static_cast<uint32_t>(hd)) : by_hd.end();
     if (it == by_hd.end()) {
       x.bright_missing += bright;
-      continue;
+      return;
     }
     const KStarsTextStar& t = it->second->text;
     BscMatch m;
@@ -549,7 +549,7 @@ BscCrossmatch crossmatch_bsc(const std::vector<OutputStar>& stars, const std::st
     m.ddec_arcsec = (t.dec_deg() - dec) * 3600.0;
     m.dmag = t.v_cmag / 100.0 - v;
     matches.push_back(m);
-  }
+  });
   x.matched = matches.size();
   std::vector<double> sep, ddec, dmag, admag;
   for (const BscMatch& m : matches) {
