@@ -59,7 +59,7 @@ struct AtmoContext_T {
   bool gl_alive = false;
   // The star catalogue prepared for drawing (9931 stars, parsed from the
   // embedded copy of data/stars on the first night pass that draws points;
-  // ~10 ms). Null before; empty when parsing failed (star_field_error says
+  // once). Null before; empty when parsing failed (star_field_error says
   // why, and the planets are still drawn).
   std::unique_ptr<atmo::core::night::StarField> star_field;
   std::string star_field_error;

@@ -93,8 +93,8 @@ double visible_step_linear(bool display_encoded);
 double visible_increase_cd_m2(double background_cd_m2, double exposure, bool display_encoded);
 
 // `transmittance` and `multiple_scattering` are the context's tables (the
-// darkest-sky estimate marches the zenith on the CPU twin, 16 steps, about
-// 20 µs for the Sun and the Moon together).
+// darkest-sky estimate marches the zenith on the CPU twin, 16 steps, for
+// the Sun and the Moon; not benchmarked on its own).
 NightPlan plan_night_sky(const Scene& scene, const twin::Lut2D& transmittance, const twin::Lut2D& multiple_scattering,
                          const NightPlanInputs& inputs);
 
