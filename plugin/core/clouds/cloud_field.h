@@ -1,0 +1,31 @@
+// cloud_field.h — a scene's clouds: a few volumes (prototypes) and where each
+// copy stands. Copies are translated only, never rotated or scaled, so every
+// copy of a prototype shares its density and its light grid (the sun's
+// direction in the grid's axes is the same for all of them): hundreds of
+// clouds cost the memory and the lighting of a few dozen. Shadows cast from
+// one cloud onto another are not modelled (docs/CLOUDS.md).
+#pragma once
+
+#include <vector>
+
+#include "core/clouds/cloud_volume.h"
+
+namespace atmo::clouds {
+
+struct CloudInstance {
+  int prototype = 0;              // index into CloudField::prototypes
+  glm::dvec3 origin_enu_m{0.0};   // replaces the prototype's origin_enu_m
+};
+
+struct CloudField {
+  std::vector<CloudVolume> prototypes;
+  std::vector<CloudInstance> instances;
+
+  size_t memory_bytes() const {
+    size_t b = 0;
+    for (const CloudVolume& v : prototypes) b += v.memory_bytes();
+    return b;
+  }
+};
+
+}  // namespace atmo::clouds
