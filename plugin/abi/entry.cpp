@@ -200,6 +200,7 @@ AtmoResult gl_shutdown(AtmoContext context) {
   return guarded(ctx, "gl_shutdown", [&]() -> AtmoResult {
     if (!ctx->gl_alive) return ATMO_SUCCESS;
     ctx->night_renderer.destroy();
+    ctx->cloud_renderer.destroy();
     ctx->renderer.destroy();
     ctx->gl_alive = false;
     ctx->uploaded_lut_version = 0;
@@ -212,6 +213,7 @@ AtmoResult gl_context_lost(AtmoContext context) {
   if (!ctx) return fail(nullptr, ATMO_ERROR_INVALID_HANDLE, "gl_context_lost", "not a live context");
   ctx->renderer.forget();
   ctx->night_renderer.forget();
+  ctx->cloud_renderer.forget();
   ctx->gl_alive = false;
   ctx->uploaded_lut_version = 0;
   return ATMO_SUCCESS;
@@ -337,6 +339,9 @@ AtmoResult night_sky_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core
   return ATMO_SUCCESS;
 }
 
+AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core::Scene& scene,
+                       const atmo::gl::PassInputs& inputs);
+
 AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
   AtmoView_T* view = live_view(view_handle, "render_pass");
   if (!view) return ATMO_ERROR_INVALID_HANDLE;
@@ -358,6 +363,8 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
 
     switch (pass.pass) {
       case ATMO_PASS_CLOUDS:
+        if (ctx->clouds.empty()) return ATMO_STATUS_NOTHING_TO_DRAW;  // no clouds: no cost
+        break;
       case ATMO_PASS_LIGHT_GLOWS:
         return ATMO_STATUS_NOT_YET_SUPPORTED;  // no GL work at all
       case ATMO_PASS_AERIAL_PERSPECTIVE:
@@ -368,7 +375,7 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
     }
     atmo::core::Scene scene = atmo::abi::prepare_scene(ctx, *view);
     atmo::gl::PassInputs inputs = atmo::abi::make_pass_inputs(scene, *view, ctx->lut, ctx->multiple_scattering);
-    if (pass.pass == ATMO_PASS_AERIAL_PERSPECTIVE) {
+    if (pass.pass == ATMO_PASS_AERIAL_PERSPECTIVE || pass.pass == ATMO_PASS_CLOUDS) {
       // At night the haze over the geometry is lit by the Moon (the plan of this view's last sky or night pass).
       atmo::abi::light_haze_by_the_moon(*view, scene, &inputs);
     }
@@ -391,11 +398,56 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
     }
     std::string error;
     if (pass.pass == ATMO_PASS_NIGHT_SKY) return night_sky_pass(ctx, view, scene, inputs);
+    if (pass.pass == ATMO_PASS_CLOUDS) return clouds_pass(ctx, view, scene, inputs);
     bool ok = pass.pass == ATMO_PASS_SKY ? ctx->renderer.draw_sky(inputs, &error)
                                          : ctx->renderer.draw_aerial_perspective(inputs, &error);
     if (!ok) return fail(ctx, ATMO_ERROR_GL, "render_pass", error);
     return ATMO_SUCCESS;
   });
+}
+
+AtmoResult set_clouds(AtmoContext context, const AtmoCloudsState* state) {
+  AtmoContext_T* ctx = live_context(context);
+  if (!ctx) return fail(nullptr, ATMO_ERROR_INVALID_HANDLE, "set_clouds", "not a live context");
+  return guarded(ctx, "set_clouds", [&]() -> AtmoResult {
+    AtmoCloudsState s;
+    ReadError e = read_struct(state, ATMO_TYPE_CLOUDS_STATE, "AtmoCloudsState", &s);
+    if (e.code) return fail(ctx, "set_clouds", e);
+    std::vector<std::string> load_errors;
+    atmo::abi::Verdict v = atmo::abi::build_clouds(s, *ctx, &ctx->clouds, &load_errors);
+    for (const std::string& line : load_errors)
+      ctx->services.log(line.find(": warning: ") != std::string::npos ? ATMO_LOG_WARNING : ATMO_LOG_ERROR, line);
+    if (!v.ok()) return fail(ctx, v.code, "set_clouds", v.message);
+    const atmo::clouds::CloudField& f = ctx->clouds.field;
+    ctx->services.log(ATMO_LOG_INFO, "clouds: " + std::to_string(f.instances.size()) + " clouds from " +
+                                         std::to_string(f.prototypes.size()) + " volumes, " +
+                                         std::to_string(f.memory_bytes() >> 20) + " MiB of density");
+    return ATMO_SUCCESS;
+  });
+}
+
+AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core::Scene& scene,
+                       const atmo::gl::PassInputs& inputs) {
+  atmo::abi::ContextClouds& c = ctx->clouds;
+  atmo::gl::CloudFrameInputs frame;
+  frame.light = atmo::abi::cloud_light(ctx, view, scene);
+  atmo::abi::relight_clouds(&c, frame.light.direction_enu);
+  frame.field = &c.field;
+  frame.depths = &c.depths;
+  frame.version = c.version;
+  frame.eye_in_clouds_m = atmo::abi::eye_in_cloud_frame(c, view->eye.eye_ecef_m);
+  frame.eye_enu_from_clouds = glm::transpose(atmo::abi::cloud_enu_from_eye_enu(c, view->eye.ecef_from_enu));
+  frame.phase = atmo::clouds::phase_for_droplet(c.field.prototypes.empty() ? 20.0f
+                                                    : c.field.prototypes[0].optics.droplet_diameter_um);
+  frame.octaves = atmo::clouds::default_octaves();
+  frame.octaves.count = c.settings.octaves;
+  frame.divisor = c.settings.march_divisor;
+  frame.step_voxels = c.settings.march_step_voxels;
+  bool drawn = false;
+  std::string error;
+  if (!ctx->cloud_renderer.draw(ctx->renderer, inputs, frame, &drawn, &error))
+    return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_CLOUDS)", error);
+  return drawn ? ATMO_SUCCESS : ATMO_STATUS_NOTHING_TO_DRAW;
 }
 
 AtmoResult get_lighting(AtmoView view_handle, AtmoLighting* out) {
@@ -437,20 +489,7 @@ AtmoResult get_lighting(AtmoView view_handle, AtmoLighting* out) {
     l.moon_azimuth_rad = moon_azimuth < 0.0 ? moon_azimuth + 2.0 * M_PI : moon_azimuth;
     l.moon_illuminated_fraction = bodies.moon_illuminated_fraction;
     l.moon_phase_angle_rad = bodies.moon_phase_angle_rad;
-    // Sky light: ~2 ms of CPU, so only when the sun, the altitude or the air changed enough.
-    constexpr double kSkyLightingSunStepRad = 0.1 * M_PI / 180.0;
-    const bool stale = !view->have_sky_lighting || view->sky_lighting_lut_version != ctx->lut_version ||
-                       glm::dot(view->sky_lighting_sun_enu, scene.sun_direction_enu) < std::cos(kSkyLightingSunStepRad) ||
-                       std::abs(view->sky_lighting_altitude_m - scene.eye_altitude_m) >
-                           0.01 * scene.eye_altitude_m + 10.0;
-    if (stale) {
-      view->sky_lighting = atmo::core::compute_sky_lighting(scene, ctx->lut, ctx->multiple_scattering);
-      view->sky_lighting_sun_enu = scene.sun_direction_enu;
-      view->sky_lighting_altitude_m = scene.eye_altitude_m;
-      view->sky_lighting_lut_version = ctx->lut_version;
-      view->have_sky_lighting = true;
-    }
-    const atmo::core::SkyLighting& sky = view->sky_lighting;
+    const atmo::core::SkyLighting& sky = atmo::abi::view_sky_lighting(ctx, view, scene);
     for (int i = 0; i < 3; ++i) {
       for (int k = 0; k < 9; ++k) l.sky_irradiance_sh9[k][i] = sky.irradiance_sh9[k][i];
       l.sky_illuminance_horizontal_lux[i] = sky.horizontal_illuminance_lux[i];
@@ -493,6 +532,7 @@ const AtmoPluginApi kApi = {
     &set_view,
     &render_pass,
     &get_lighting,
+    &set_clouds,
 };
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "abi/cloud_inputs.h"
 #include "abi/host_services.h"
 #include "abi/table_builder.h"
 #include "atmo/atmo.h"
@@ -19,6 +20,7 @@
 #include "core/night_sky/point_sources.h"
 #include "core/sky_bodies.h"
 #include "core/sky_lighting.h"
+#include "gl/cloud_renderer.h"
 #include "gl/night_renderer.h"
 #include "gl/renderer.h"
 
@@ -51,6 +53,10 @@ struct AtmoContext_T {
   uint64_t uploaded_lut_version = 0; // what the GL texture holds (0: nothing)
   LutKey lut_wanted;                 // the key asked for last (the current air at the last view's sphere)
   atmo::abi::TableWorker table_worker;  // joined by destroy_context (and its destructor)
+
+  // The clouds (set_clouds) and their GL objects (built by the first cloud pass with clouds).
+  atmo::abi::ContextClouds clouds;
+  atmo::gl::CloudRenderer cloud_renderer;
 
   atmo::gl::Renderer renderer;
   // The night sky's point pass: its programs are built by the first night

@@ -108,4 +108,19 @@ void stop_table_builds(AtmoContext_T* c) noexcept {
   }
 }
 
+const core::SkyLighting& view_sky_lighting(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene) {
+  constexpr double kSkyLightingSunStepRad = 0.1 * M_PI / 180.0;
+  const bool stale = !view->have_sky_lighting || view->sky_lighting_lut_version != ctx->lut_version ||
+                     glm::dot(view->sky_lighting_sun_enu, scene.sun_direction_enu) < std::cos(kSkyLightingSunStepRad) ||
+                     std::abs(view->sky_lighting_altitude_m - scene.eye_altitude_m) > 0.01 * scene.eye_altitude_m + 10.0;
+  if (stale) {
+    view->sky_lighting = core::compute_sky_lighting(scene, ctx->lut, ctx->multiple_scattering);
+    view->sky_lighting_sun_enu = scene.sun_direction_enu;
+    view->sky_lighting_altitude_m = scene.eye_altitude_m;
+    view->sky_lighting_lut_version = ctx->lut_version;
+    view->have_sky_lighting = true;
+  }
+  return view->sky_lighting;
+}
+
 }  // namespace atmo::abi

@@ -18,6 +18,11 @@ namespace atmo::abi {
 // worker's progress lines are logged here.
 core::Scene prepare_scene(AtmoContext_T* context, AtmoView_T& view);
 
+// The sky as a light at the view's eye (SH irradiance, mean radiance): ~2 ms
+// of CPU, so cached per view and recomputed only when the sun moved by 0.1°,
+// the altitude by 1 % + 10 m, or the air's tables changed.
+const core::SkyLighting& view_sky_lighting(AtmoContext_T* context, AtmoView_T* view, const core::Scene& scene);
+
 // set_atmosphere changed context->atmosphere: start building its tables now
 // (at the sphere of the last view), before the next frame asks. No-op before
 // the first frame (which builds synchronously). Never throws.

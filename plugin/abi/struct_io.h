@@ -27,6 +27,8 @@ ATMO_V1_SIZE(AtmoFrameState, 40);
 ATMO_V1_SIZE(AtmoViewState, 408);
 ATMO_V1_SIZE(AtmoPassInfo, 24);
 ATMO_V1_SIZE(AtmoLighting, 104);
+ATMO_V1_SIZE(AtmoCloudLayer, 168);
+ATMO_V1_SIZE(AtmoCloudsState, 80);
 #undef ATMO_V1_SIZE
 
 struct ReadError {

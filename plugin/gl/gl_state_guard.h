@@ -43,6 +43,8 @@ class GlStateGuard {
   // Restricts the bound user framebuffer to draw buffer 0 (dual-source blending
   // allows one); restored on exit. No-op for the default framebuffer.
   void use_single_draw_buffer();
+  // Binds the caller's draw framebuffer again (after drawing into the plugin's own).
+  void restore_draw_framebuffer() const { glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(draw_fbo_)); }
 };
 
 }  // namespace atmo::gl

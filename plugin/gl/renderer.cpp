@@ -397,6 +397,16 @@ bool Renderer::night_sky_textures(const PassInputs& in, NightSkyTextures* out, s
   return true;
 }
 
+bool Renderer::prepare_pass_tables(const PassUniforms& uniforms, const PassInputs& in, std::string* error) {
+  use_lut_settings(in.lut);
+  if (in.method != SkyMethod::kMarch && !ensure_aerial_volume(in, error)) return false;
+  const PassTableSizes sizes{transmittance_size_, multiple_scattering_size_,
+                             glm::vec2(settings_.sky_view_width, settings_.sky_view_height), moon_sky_scale_};
+  set_pass_uniforms(uniforms, in, sizes, settings_.march_aerial_steps, NightTerms{});
+  bind_textures(in.depth_texture);
+  return true;
+}
+
 bool Renderer::draw_aerial_perspective(const PassInputs& in, std::string* error) {
   while (glGetError() != GL_NO_ERROR) {}
   use_lut_settings(in.lut);

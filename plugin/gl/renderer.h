@@ -127,6 +127,11 @@ class Renderer {
   // pass of this frame built it). False and *error on a GL error.
   bool night_sky_textures(const PassInputs& in, NightSkyTextures* out, std::string* error);
 
+  // For another pass drawing with pass_common.glsl (the clouds): brings the
+  // aerial-perspective volume up to date for `in` (LUT and ANALYTIC), binds
+  // the tables on their units (call inside that pass's GlStateGuard) and sets
+  // pass_common's uniforms of the program in use. False and *error on a GL error.
+  bool prepare_pass_tables(const PassUniforms& uniforms, const PassInputs& in, std::string* error);
   // Uploads the transmittance and multiple-scattering tables (RGB32F).
   void upload_tables(const twin::Lut2D& transmittance, const twin::Lut2D& multiple_scattering);
   // Each returns false and sets *error on a GL error; state is restored either way.

@@ -12,7 +12,11 @@ using atmo::abi::V1Size;
 TEST(StructLayout, Version1SizesAreFrozen) {
   EXPECT_EQ(sizeof(AtmoStructHeader), 16u);
   EXPECT_EQ(sizeof(AtmoNegotiateInfo), V1Size<AtmoNegotiateInfo>::value);
-  EXPECT_EQ(sizeof(AtmoPluginApi), V1Size<AtmoPluginApi>::value);
+  // The function table grew at its end (set_clouds); 144-byte hosts get no clouds.
+  EXPECT_EQ(V1Size<AtmoPluginApi>::value, 144u);
+  EXPECT_EQ(sizeof(AtmoPluginApi), 152u);
+  EXPECT_EQ(sizeof(AtmoCloudLayer), V1Size<AtmoCloudLayer>::value);
+  EXPECT_EQ(sizeof(AtmoCloudsState), V1Size<AtmoCloudsState>::value);
   EXPECT_EQ(sizeof(AtmoHostServices), V1Size<AtmoHostServices>::value);
   EXPECT_EQ(sizeof(AtmoContextCreateInfo), V1Size<AtmoContextCreateInfo>::value);
   EXPECT_EQ(sizeof(AtmoViewCreateInfo), V1Size<AtmoViewCreateInfo>::value);
@@ -30,6 +34,7 @@ TEST(StructLayout, Version1SizesAreFrozen) {
 TEST(StructLayout, Version1OffsetsAreFrozen) {
   EXPECT_EQ(offsetof(AtmoPluginApi, result_string), 32u);
   EXPECT_EQ(offsetof(AtmoPluginApi, get_lighting), 136u);
+  EXPECT_EQ(offsetof(AtmoPluginApi, set_clouds), 144u);
   EXPECT_EQ(offsetof(AtmoHostServices, gl_get_proc_address), 72u);
   EXPECT_EQ(offsetof(AtmoFrameState, utc_posix_s), 24u);
   EXPECT_EQ(offsetof(AtmoViewState, eye_ecef_m), 24u);

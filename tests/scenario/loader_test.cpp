@@ -126,6 +126,9 @@ TEST(Loader, EveryFieldIsRead) {
   EXPECT_EQ(s.clouds[1].vdb_file, "clouds/bunny.vdb");
   EXPECT_EQ(s.clouds[1].position.enu_m[2], 1500.0);
   EXPECT_EQ(s.clouds[1].scale, 2.5);
+  EXPECT_EQ(s.clouds[1].heading_deg, 30.0);
+  EXPECT_EQ(s.clouds[1].density_scale, 2.0);
+  EXPECT_EQ(s.clouds[0].area_m, 12000.0);
   EXPECT_EQ(s.clouds[1].seed, 9u);
   EXPECT_EQ(s.fog->visibility_m, 250.0);
   ASSERT_EQ(s.lights->points.size(), 1u);
@@ -151,7 +154,8 @@ TEST(Loader, EveryFieldIsRead) {
         << n.message;
   }
   // The night sky is drawn (only a moon: false would be reported: the Moon is part of the sky pass).
-  EXPECT_EQ(paths, (std::vector<std::string>{"/clouds", "/fog", "/lights"}));
+  // Clouds are drawn too (docs/CLOUDS.md).
+  EXPECT_EQ(paths, (std::vector<std::string>{"/fog", "/lights"}));
 
 
   EXPECT_EQ(sc::resolve_path(s, s.expectations.reference->image),
@@ -199,13 +203,21 @@ TEST(Loader, WrongSectionTypeIsOneError) {
   EXPECT_EQ(r.error, "test.json: /render: expected an object (render), found \"fast\"");
 }
 
-TEST(Loader, EmptyCloudListIsStillReported) {
+TEST(Loader, CloudsAreSupported) {
   json d = minimal();
   d["clouds"] = json::array();
-  const auto r = load(d);
+  auto r = load(d);
   ASSERT_TRUE(r.scenario) << r.error;
-  ASSERT_EQ(r.scenario->not_yet_supported.size(), 1u);
-  EXPECT_EQ(r.scenario->not_yet_supported[0].path, "/clouds");
+  EXPECT_TRUE(r.scenario->not_yet_supported.empty());
+  d["clouds"] = {{{"type", "cumulus"}, {"coverage_oktas", 3}, {"base_m", 1000}, {"top_m", 2000}, {"area_m", 9000}}};
+  r = load(d);
+  ASSERT_TRUE(r.scenario) << r.error;
+  EXPECT_TRUE(r.scenario->not_yet_supported.empty());
+  EXPECT_EQ(r.scenario->clouds[0].area_m, 9000.0);
+  d["clouds"] = {{{"type", "vdb"}, {"vdb_file", "a.vdb"}, {"position", {{"enu_m", {0, 0, 0}}}}, {"area_m", 9000}}};
+  r = load(d);
+  EXPECT_FALSE(r.scenario);
+  EXPECT_NE(r.error.find("/clouds/0/area_m: unexpected on a \"vdb\" layer"), std::string::npos) << r.error;
 }
 
 TEST(Loader, VdbLayerNeedsFileAndPosition) {

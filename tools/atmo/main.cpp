@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <string>
 
+#include "clouds_command.h"
 #include "compare_command.h"
 #include "ephemeris_command.h"
 #include "render_command.h"
@@ -80,6 +81,15 @@ int main(int argc, char** argv) {
   ephemeris_cmd->add_option("--temperature", ephemeris.temperature_c,
                             "Air temperature at the observer for refraction, °C (default: standard atmosphere)");
 
+  atmo::clouds_cli::Options clouds;
+  CLI::App* clouds_cmd = app.add_subcommand(
+      "clouds", "Generates a scenario's procedural cloud layers as the plugin does and writes them to an OpenVDB "
+                "file (float grids named density, density_1, ...), to view, edit and load back as \"vdb\" layers");
+  clouds_cmd->add_option("scenario", clouds.scenario_path, "Scenario JSON file")->required();
+  clouds_cmd->add_option("-o,--out", clouds.out_path, "Output .vdb file")->required();
+  clouds_cmd->add_flag("--prototypes", clouds.prototypes_only,
+                       "One grid per distinct cloud volume instead of one per placed cloud");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -89,6 +99,7 @@ int main(int argc, char** argv) {
     return ephemeris_args && code != 0 ? 2 : code;
   }
   if (*compare_cmd) return atmo::compare::run_compare(compare);
+  if (*clouds_cmd) return atmo::clouds_cli::run_clouds(clouds);
   if (*ephemeris_cmd) return atmo::ephemeris::run_ephemeris(ephemeris);
 
   if (*validate_cmd) return atmo::validate::run_validation(validate) == 0 ? 0 : 1;

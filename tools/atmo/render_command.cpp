@@ -116,6 +116,52 @@ std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
 
 }  // namespace
 
+// The scenario's cloud layers through set_clouds (none: no call, no cost).
+void set_clouds(const sc::Scenario& scenario, atmo::Context& context) {
+  if (scenario.clouds.empty()) return;
+  const hs::Geodetic origin = to_host(scenario.location);
+  const double default_area = scenario.terrain ? scenario.terrain->size_m : 20000.0;
+  std::vector<AtmoCloudLayer> layers;
+  std::vector<std::string> paths(scenario.clouds.size());
+  for (size_t i = 0; i < scenario.clouds.size(); ++i) {
+    const sc::CloudLayer& c = scenario.clouds[i];
+    AtmoCloudLayer l = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
+    switch (c.type) {
+      case sc::CloudType::Cumulus: l.type = ATMO_CLOUD_CUMULUS; break;
+      case sc::CloudType::Stratus: l.type = ATMO_CLOUD_STRATUS; break;
+      case sc::CloudType::Overcast: l.type = ATMO_CLOUD_OVERCAST; break;
+      case sc::CloudType::Cirrus: l.type = ATMO_CLOUD_CIRRUS; break;
+      case sc::CloudType::Vdb: l.type = ATMO_CLOUD_VDB_FILE; break;
+    }
+    l.seed = c.seed;
+    if (c.type == sc::CloudType::Vdb) {
+      paths[i] = sc::resolve_path(scenario, c.vdb_file);
+      l.vdb_path = paths[i].c_str();
+      const glm::dvec3 p = c.position.kind == sc::Position::Kind::Enu
+                               ? glm::dvec3(c.position.enu_m[0], c.position.enu_m[1], c.position.enu_m[2])
+                               : hs::enu_from_geodetic(origin, to_host(c.position.geodetic));
+      for (int k = 0; k < 3; ++k) l.position_enu_m[k] = p[k];
+      l.rotation_deg[0] = c.heading_deg;
+      l.metres_per_unit = c.scale;
+      l.density_scale = c.density_scale;
+    } else {
+      l.coverage_oktas = c.coverage_oktas;
+      l.base_m = c.base_m;
+      l.top_m = c.top_m;
+      l.area_size_m = c.area_m > 0.0 ? c.area_m : default_area;
+    }
+    layers.push_back(l);
+  }
+  AtmoCloudsState state = atmo::make<AtmoCloudsState>(ATMO_TYPE_CLOUDS_STATE);
+  state.origin_geodetic[0] = scenario.location.latitude_deg;
+  state.origin_geodetic[1] = scenario.location.longitude_deg;
+  state.origin_geodetic[2] = scenario.location.height_m;
+  state.layers = layers.data();
+  state.layer_count = static_cast<uint32_t>(layers.size());
+  const AtmoResult r = context.set_clouds(state);
+  if (r != ATMO_SUCCESS) std::printf("  clouds: %s\n", context.last_error().c_str());
+}
+
 int run_render(const Options& options) {
   sc::LoadResult loaded = sc::load_scenario_file(options.scenario_path);
   if (!loaded.scenario) {
@@ -153,6 +199,8 @@ int run_render(const Options& options) {
     frame.utc_posix_s = scenario.utc_posix_s;
     frame.dut1_s = scenario.dut1_s;
     context.set_frame(frame);
+
+    set_clouds(scenario, context);
 
     hs::Terrain terrain(terrain_of(scenario));
     if (!terrain.gl_init(&error)) throw std::runtime_error("terrain: " + error);
@@ -204,8 +252,9 @@ int run_render(const Options& options) {
                   hs::to_string(depth));
 
       std::vector<PassTiming> timings = {{"terrain (host)", {}, ""}, {"sky", {}, ""}, {"aerial perspective", {}, ""},
-                                         {"clouds", {}, ""}, {"night sky", {}, ""}, {"light glows", {}, ""}};
-      const AtmoPass passes[] = {ATMO_PASS_SKY, ATMO_PASS_AERIAL_PERSPECTIVE, ATMO_PASS_CLOUDS, ATMO_PASS_NIGHT_SKY,
+                                         {"night sky", {}, ""}, {"clouds", {}, ""}, {"light glows", {}, ""}};
+      // The night sky before the clouds, which hide the stars.
+      const AtmoPass passes[] = {ATMO_PASS_SKY, ATMO_PASS_AERIAL_PERSPECTIVE, ATMO_PASS_NIGHT_SKY, ATMO_PASS_CLOUDS,
                                  ATMO_PASS_LIGHT_GLOWS};
       PassTimer timer;
       for (int rep = 0; rep < options.repeat; ++rep) {

@@ -111,6 +111,8 @@ typedef enum AtmoStructType {
   ATMO_TYPE_VIEW_STATE = 0x41540008,
   ATMO_TYPE_PASS_INFO = 0x41540009,
   ATMO_TYPE_LIGHTING = 0x4154000A,
+  ATMO_TYPE_CLOUD_LAYER = 0x4154000B,
+  ATMO_TYPE_CLOUDS_STATE = 0x4154000C,
   ATMO_TYPE_MAX_ENUM = 0x7fffffff
 } AtmoStructType;
 
@@ -342,7 +344,12 @@ typedef enum AtmoPass {
   /* Haze over the host's opaque geometry, from the host depth: colour =
      colour * transmittance + in-scattered light. Call after opaques. */
   ATMO_PASS_AERIAL_PERSPECTIVE = 1,
-  ATMO_PASS_CLOUDS = 2,       /* volumetric clouds (not yet supported: nothing to draw) */
+  /* Volumetric clouds (set_clouds): blended over what is drawn, against the
+     host depth, with the aerial perspective applied. Call after
+     ATMO_PASS_NIGHT_SKY, so clouds hide the stars, and after the host's
+     opaques. ATMO_STATUS_NOTHING_TO_DRAW (no GL call) with no clouds.
+     docs/CLOUDS.md. */
+  ATMO_PASS_CLOUDS = 2,
   /* Stars and planets as points (photometric, dimmed by the air, only where
      the host depth is at the far plane). Call after ATMO_PASS_SKY, which
      draws the Moon's disc, the moonlit sky and the faint night background
@@ -359,6 +366,64 @@ typedef struct AtmoPassInfo {
   uint32_t pass;           /* AtmoPass */
   uint32_t flags;          /* reserved, 0 */
 } AtmoPassInfo;
+
+/* ------------------------------------------------------------------------ */
+/* Clouds                                                                    */
+/* ------------------------------------------------------------------------ */
+
+typedef enum AtmoCloudLayerType {
+  ATMO_CLOUD_CUMULUS = 0,   /* fair-weather cumulus: separate clouds, flat bases, coverage in oktas */
+  ATMO_CLOUD_STRATUS = 1,   /* a low deck, broken below 8 oktas */
+  ATMO_CLOUD_OVERCAST = 2,  /* a dense deck, 8 oktas (coverage is ignored) */
+  ATMO_CLOUD_CIRRUS = 3,    /* thin, high ice streaks */
+  ATMO_CLOUD_VDB_FILE = 4,  /* a density grid from an OpenVDB file */
+  ATMO_CLOUD_LAYER_TYPE_COUNT = 5
+} AtmoCloudLayerType;
+
+/* One cloud layer or one OpenVDB volume. Heights and positions are metres in
+   the clouds' east-north-up frame (AtmoCloudsState.origin_geodetic). Zero
+   fields take the defaults given. */
+typedef struct AtmoCloudLayer {
+  AtmoStructHeader header;   /* ATMO_TYPE_CLOUD_LAYER */
+  uint32_t type;             /* AtmoCloudLayerType */
+  int32_t coverage_oktas;    /* procedural: 0..8, the share of the ground under cloud in eighths */
+  double base_m;             /* procedural: cloud base, ENU up; [0, 20 000] */
+  double top_m;              /* procedural: cloud tops; > base_m, <= 20 000 */
+  double area_centre_enu_m[2]; /* procedural: centre (east, north) of the square the layer fills */
+  double area_size_m;        /* procedural: its side; 0: 20 000; [500, 400 000] */
+  uint64_t seed;             /* procedural: the layer's random stream (0 is a valid seed) */
+  /* ATMO_CLOUD_VDB_FILE: the file (UTF-8; relative paths resolve against
+     AtmoContextCreateInfo.asset_root; read through the host's file service)
+     and the float grid in it (NULL: "density"). Values are densities, 1 =
+     the extinction below. */
+  const char* vdb_path;
+  const char* vdb_grid;
+  double position_enu_m[3];  /* VDB: where the file's world origin goes */
+  double rotation_deg[3];    /* VDB: heading (about up, clockwise from north), pitch, roll of the file's axes
+                                (x east, y north, z up at 0,0,0); only heading is supported yet: pitch, roll 0 */
+  double metres_per_unit;    /* VDB: metres per unit of the file's world space; 0: 1 */
+  double density_scale;      /* VDB: multiplies the file's values; 0: 1 */
+  /* Optics, all types: 0 takes the type's default (docs/CLOUDS.md). */
+  double extinction_per_m;   /* at density 1, 1/m; (0, 1] */
+  double droplet_diameter_um; /* effective droplet diameter (phase function), [5, 50] */
+} AtmoCloudLayer;
+
+typedef struct AtmoCloudsState {
+  AtmoStructHeader header;   /* ATMO_TYPE_CLOUDS_STATE */
+  /* The ENU frame the layers are given in (latitude deg, longitude deg, height m, WGS84). */
+  double origin_geodetic[3];
+  /* The layers: layer_count structs, each layers[0].header.struct_size bytes
+     apart (so the array can grow like any struct). 0 layers: no clouds (the
+     pass then costs nothing). */
+  const AtmoCloudLayer* layers;
+  uint32_t layer_count;
+  /* Quality knobs; 0 takes the default (docs/CLOUDS.md charts their error and cost). */
+  uint32_t march_resolution_divisor; /* the cloud march renders at 1/n of the viewport per axis, [1, 8]; default 2 */
+  double march_step_voxels;          /* view-ray step, voxels, [0.25, 8]; default 1 */
+  uint32_t multiple_scattering_octaves; /* 1 = single scattering, [1, 8]; default 6 */
+  uint32_t reserved;                 /* 0 */
+  double light_update_threshold_deg; /* the light's direction may move this far before the clouds are relit; default 0.5 */
+} AtmoCloudsState;
 
 /* ------------------------------------------------------------------------ */
 /* Lighting for the host's own shading                                       */
@@ -473,6 +538,18 @@ typedef struct AtmoPluginApi {
 
   /* Sun light at the view's eye for the host's shading. Needs set_frame and set_view. [ctx-sync][no-gl] */
   AtmoResult (*get_lighting)(AtmoView view, AtmoLighting* out_lighting);
+
+  /* --- Added after the first table (a host whose struct_size ends above gets
+     NULL here and has no clouds) --- */
+  /* Replaces the clouds. Generates procedural layers and reads VDB files on
+     the calling thread: seconds for large layers, so call it when a scenario
+     or the weather changes, not every frame. A layer that fails (a missing,
+     corrupt, empty or wrong-typed file) is left out with its error in
+     last_error and a log line, the others are kept, and the result is
+     ATMO_ERROR_IO (file) or the validation error; invalid fields in any layer
+     (bad enum, NaN, out of range) reject the whole call, clouds unchanged.
+     [ctx-sync][no-gl] */
+  AtmoResult (*set_clouds)(AtmoContext context, const AtmoCloudsState* state);
 } AtmoPluginApi;
 
 /* The one exported entry point. The host fills `host` and sets

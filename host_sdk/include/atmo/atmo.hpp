@@ -96,6 +96,14 @@ class Context {
   }
   void set_atmosphere(const AtmoAtmosphereState& s) { check(api_->set_atmosphere(context_, &s), "set_atmosphere"); }
   void set_frame(const AtmoFrameState& s) { check(api_->set_frame(context_, &s), "set_frame"); }
+  std::string last_error() const { return api_->last_error(context_); }
+  // Throws on an invalid state; a layer that failed to load (ATMO_ERROR_IO)
+  // is returned, not thrown: the other layers were kept (last_error says which).
+  AtmoResult set_clouds(const AtmoCloudsState& s) {
+    if (!api_->set_clouds) throw std::runtime_error("set_clouds: the plugin has no clouds (an older plugin)");
+    AtmoResult r = api_->set_clouds(context_, &s);
+    return r == ATMO_ERROR_IO ? r : check(r, "set_clouds");
+  }
 
   AtmoContext handle() const { return context_; }
   const AtmoPluginApi& api() const { return *api_; }

@@ -34,7 +34,8 @@ const std::vector<ObjectShape> kShapes = {
     {"atmosphere", {"visibility_m", "aerosol_scale_height_m", "ground_albedo"}},
     {"terrain", {"kind", "seed", "size_m", "relief_m", "runway", "runway_heading_deg"}},
     {"cloud_layer",
-     {"type", "coverage_oktas", "base_m", "top_m", "seed", "vdb_file", "position", "scale"}},
+     {"type", "coverage_oktas", "base_m", "top_m", "area_m", "seed", "vdb_file", "position", "scale",
+      "heading_deg", "density_scale"}},
     {"fog", {"visibility_m", "top_m"}},
     {"lights", {"runway_approach", "points"}},
     {"light_point", {"enu_m", "intensity_cd", "color"}},
@@ -108,10 +109,6 @@ class Loader {
     }
     if (const json* v = r.field("clouds", false, "")) {
       clouds(*v, r.child("clouds"), &s->clouds);
-      s->not_yet_supported.push_back(
-          {r.child("clouds"), std::to_string(s->clouds.size()) +
-                                  " cloud layer(s) validated but not drawn: clouds are not "
-                                  "implemented yet"});
     }
     if (const json* v = r.field("fog", false, "")) {
       fog(*v, r.child("fog"), &s->fog.emplace());
@@ -294,10 +291,10 @@ class Loader {
 
       // Layer fields: required for procedural types, refused for vdb.
       if (vdb) {
-        for (const char* k : {"coverage_oktas", "base_m", "top_m"}) {
+        for (const char* k : {"coverage_oktas", "base_m", "top_m", "area_m"}) {
           if (r.field(k, false, "")) {
-            errors_.add(r.child(k), "unexpected on a \"vdb\" layer: coverage_oktas, base_m and "
-                                    "top_m are for procedural layers only");
+            errors_.add(r.child(k), "unexpected on a \"vdb\" layer: coverage_oktas, base_m, "
+                                    "top_m and area_m are for procedural layers only");
           }
         }
       } else {
@@ -310,6 +307,7 @@ class Loader {
         if (oktas) c.coverage_oktas = static_cast<int>(*oktas);
         if (base) c.base_m = *base;
         if (top) c.top_m = *top;
+        if (auto a = r.number("area_m", Range::closed(500, 400000), 0.0)) c.area_m = *a;
         if (layer && base && top && !(*top > *base)) {
           errors_.expected(r.child("top_m"), "a number > base_m (" + detail::describe(*base) + ")",
                            *top);
@@ -317,11 +315,11 @@ class Loader {
       }
       // Volume fields: required for vdb, refused for procedural types.
       if (layer) {
-        for (const char* k : {"vdb_file", "position", "scale"}) {
+        for (const char* k : {"vdb_file", "position", "scale", "heading_deg", "density_scale"}) {
           if (r.field(k, false, "")) {
             errors_.add(r.child(k), std::string("unexpected on a \"") + to_string(c.type) +
-                                        "\" layer: vdb_file, position and scale are for type "
-                                        "\"vdb\" only");
+                                        "\" layer: vdb_file, position, scale, heading_deg and density_scale "
+                                        "are for type \"vdb\" only");
           }
         }
       } else {
@@ -330,6 +328,8 @@ class Loader {
           position(*p, r.child("position"), &c.position);
         }
         if (auto x = r.number("scale", Range::above(0), 1.0)) c.scale = *x;
+        if (auto x = r.number("heading_deg", Range::closed(0, 360), 0.0)) c.heading_deg = *x;
+        if (auto x = r.number("density_scale", Range::above(0), 1.0)) c.density_scale = *x;
       }
       layers->push_back(std::move(c));
     }

@@ -92,6 +92,9 @@ struct CloudLayer {
   std::string vdb_file;       // Vdb: as written, relative to the scenario file
   Position position;          // Vdb: where the grid's origin goes
   double scale = 1.0;         // Vdb: metres per grid unit, > 0
+  double heading_deg = 0.0;   // Vdb: the grid's x axis turned from east, clockwise seen from above, [0, 360]
+  double density_scale = 1.0; // Vdb: multiplies the grid's values, > 0
+  double area_m = 0.0;        // procedural: side of the square the layer fills; 0: the terrain's size (or 20 km)
 };
 
 struct Fog {

@@ -1,0 +1,242 @@
+#include "abi/cloud_inputs.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "abi/objects.h"
+#include "abi/scene_inputs.h"
+#include "abi/struct_io.h"
+#include "core/clouds/procedural_clouds.h"
+#include "core/scene.h"
+#include "core/shader_twin.h"
+#include "vdb/vdb_io.h"
+
+namespace atmo::abi {
+
+namespace {
+
+std::string layer_name(uint32_t i) { return "AtmoCloudsState.layers[" + std::to_string(i) + "]"; }
+
+bool finite_all(const double* v, int n) {
+  for (int i = 0; i < n; ++i)
+    if (!std::isfinite(v[i])) return false;
+  return true;
+}
+
+Verdict bad(AtmoResult code, const std::string& what) { return Verdict{code, what}; }
+
+// Range checks of one layer (its header already read).
+Verdict validate_layer(const AtmoCloudLayer& l, const std::string& where) {
+  if (l.type >= ATMO_CLOUD_LAYER_TYPE_COUNT)
+    return bad(ATMO_ERROR_INVALID_ARGUMENT, where + ".type = " + std::to_string(l.type) + " is not an AtmoCloudLayerType");
+  const double numbers[] = {l.base_m, l.top_m, l.area_centre_enu_m[0], l.area_centre_enu_m[1], l.area_size_m,
+                            l.position_enu_m[0], l.position_enu_m[1], l.position_enu_m[2], l.rotation_deg[0],
+                            l.rotation_deg[1], l.rotation_deg[2], l.metres_per_unit, l.density_scale,
+                            l.extinction_per_m, l.droplet_diameter_um};
+  if (!finite_all(numbers, 15)) return bad(ATMO_ERROR_NON_FINITE_VALUE, where + " holds a NaN or infinite number");
+  if (l.extinction_per_m < 0.0 || l.extinction_per_m > 1.0)
+    return bad(ATMO_ERROR_OUT_OF_RANGE, where + ".extinction_per_m = " + std::to_string(l.extinction_per_m) +
+                                            " is outside (0, 1] (0: default)");
+  if (l.droplet_diameter_um != 0.0 && (l.droplet_diameter_um < 5.0 || l.droplet_diameter_um > 50.0))
+    return bad(ATMO_ERROR_OUT_OF_RANGE, where + ".droplet_diameter_um = " + std::to_string(l.droplet_diameter_um) +
+                                            " is outside [5, 50] (0: default)");
+  if (l.type == ATMO_CLOUD_VDB_FILE) {
+    if (!l.vdb_path || !*l.vdb_path) return bad(ATMO_ERROR_INVALID_ARGUMENT, where + ".vdb_path is NULL or empty");
+    if (l.metres_per_unit < 0.0 || l.density_scale < 0.0)
+      return bad(ATMO_ERROR_OUT_OF_RANGE, where + ".metres_per_unit and density_scale must be >= 0 (0: default 1)");
+    if (l.rotation_deg[1] != 0.0 || l.rotation_deg[2] != 0.0)
+      return bad(ATMO_ERROR_OUT_OF_RANGE, where + ".rotation_deg: only heading is supported yet (pitch, roll 0)");
+    return {};
+  }
+  if (l.coverage_oktas < 0 || l.coverage_oktas > 8)
+    return bad(ATMO_ERROR_OUT_OF_RANGE, where + ".coverage_oktas = " + std::to_string(l.coverage_oktas) +
+                                            " is outside [0, 8]");
+  if (l.base_m < 0.0 || l.top_m > 20000.0 || !(l.top_m > l.base_m))
+    return bad(ATMO_ERROR_OUT_OF_RANGE, where + ": base_m " + std::to_string(l.base_m) + ", top_m " +
+                                            std::to_string(l.top_m) + ": need 0 <= base_m < top_m <= 20000");
+  if (l.area_size_m != 0.0 && (l.area_size_m < 500.0 || l.area_size_m > 400000.0))
+    return bad(ATMO_ERROR_OUT_OF_RANGE, where + ".area_size_m = " + std::to_string(l.area_size_m) +
+                                            " is outside [500, 400000] (0: default 20000)");
+  return {};
+}
+
+clouds::CloudLayerType procedural_type(uint32_t t) {
+  switch (t) {
+    case ATMO_CLOUD_STRATUS: return clouds::CloudLayerType::Stratus;
+    case ATMO_CLOUD_OVERCAST: return clouds::CloudLayerType::Overcast;
+    case ATMO_CLOUD_CIRRUS: return clouds::CloudLayerType::Cirrus;
+    default: return clouds::CloudLayerType::Cumulus;
+  }
+}
+
+void apply_optics(const AtmoCloudLayer& l, clouds::CloudVolume* v) {
+  if (l.extinction_per_m > 0.0) v->optics.extinction_per_m = static_cast<float>(l.extinction_per_m);
+  if (l.droplet_diameter_um > 0.0) v->optics.droplet_diameter_um = static_cast<float>(l.droplet_diameter_um);
+}
+
+// Appends a field's prototypes and instances to *out.
+void append_field(clouds::CloudField&& f, clouds::CloudField* out) {
+  const int base = static_cast<int>(out->prototypes.size());
+  for (clouds::CloudVolume& v : f.prototypes) out->prototypes.push_back(std::move(v));
+  for (clouds::CloudInstance i : f.instances) {
+    i.prototype += base;
+    out->instances.push_back(i);
+  }
+}
+
+}  // namespace
+
+Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, ContextClouds* out,
+                     std::vector<std::string>* load_errors) {
+  if (!finite_all(s.origin_geodetic, 3) || !std::isfinite(s.march_step_voxels) ||
+      !std::isfinite(s.light_update_threshold_deg))
+    return bad(ATMO_ERROR_NON_FINITE_VALUE, "AtmoCloudsState holds a NaN or infinite number");
+  if (std::abs(s.origin_geodetic[0]) > 90.0)
+    return bad(ATMO_ERROR_OUT_OF_RANGE, "AtmoCloudsState.origin_geodetic latitude " +
+                                            std::to_string(s.origin_geodetic[0]) + " is outside [-90, 90]");
+  if (s.layer_count > 0 && !s.layers) return bad(ATMO_ERROR_INVALID_ARGUMENT, "AtmoCloudsState.layers is NULL");
+  if (s.layer_count > 64) return bad(ATMO_ERROR_OUT_OF_RANGE, "AtmoCloudsState.layer_count > 64");
+  if (s.march_resolution_divisor > 8 || (s.march_step_voxels != 0.0 && (s.march_step_voxels < 0.25 || s.march_step_voxels > 8.0)) ||
+      s.multiple_scattering_octaves > 8 || s.light_update_threshold_deg < 0.0 || s.light_update_threshold_deg > 30.0)
+    return bad(ATMO_ERROR_OUT_OF_RANGE, "AtmoCloudsState quality knobs: march_resolution_divisor [1, 8], "
+                                        "march_step_voxels [0.25, 8], multiple_scattering_octaves [1, 8], "
+                                        "light_update_threshold_deg [0, 30] (0: defaults)");
+  // Read and validate every layer before building any.
+  std::vector<AtmoCloudLayer> layers(s.layer_count);
+  uint32_t stride = 0;
+  for (uint32_t i = 0; i < s.layer_count; ++i) {
+    const char* bytes = reinterpret_cast<const char*>(s.layers);
+    if (i == 0) {
+      AtmoStructHeader h;
+      std::memcpy(&h, bytes, sizeof(h));
+      stride = h.struct_size;
+    }
+    ReadError e = read_struct(bytes + static_cast<size_t>(stride) * i, ATMO_TYPE_CLOUD_LAYER, layer_name(i).c_str(),
+                              &layers[i]);
+    if (e.code) return bad(e.code, e.message);
+    Verdict v = validate_layer(layers[i], layer_name(i));
+    if (!v.ok()) return v;
+  }
+  ContextClouds c;
+  c.origin = core::Geodetic{s.origin_geodetic[0], s.origin_geodetic[1], s.origin_geodetic[2]};
+  c.origin_ecef_m = core::ecef_from_geodetic(c.origin);
+  c.ecef_from_enu = core::ecef_from_enu(c.origin.latitude_deg, c.origin.longitude_deg);
+  if (s.march_resolution_divisor) c.settings.march_divisor = static_cast<int>(s.march_resolution_divisor);
+  if (s.march_step_voxels > 0.0) c.settings.march_step_voxels = static_cast<float>(s.march_step_voxels);
+  if (s.multiple_scattering_octaves) c.settings.octaves = static_cast<int>(s.multiple_scattering_octaves);
+  if (s.light_update_threshold_deg > 0.0) c.settings.light_threshold_rad = s.light_update_threshold_deg * M_PI / 180.0;
+
+  Verdict result;
+  for (uint32_t i = 0; i < s.layer_count; ++i) {
+    const AtmoCloudLayer& l = layers[i];
+    if (l.type == ATMO_CLOUD_VDB_FILE) {
+      std::vector<uint8_t> bytes;
+      std::string error;
+      vdb::LoadResult r;
+      if (!ctx.services.read_file(l.vdb_path, ctx.asset_root, &bytes, &error)) {
+        r.error = error;
+      } else {
+        vdb::LoadOptions o;
+        if (l.vdb_grid && *l.vdb_grid) o.grid_name = l.vdb_grid;
+        if (l.metres_per_unit > 0.0) o.metres_per_unit = l.metres_per_unit;
+        if (l.density_scale > 0.0) o.density_scale = l.density_scale;
+        r = vdb::load_vdb_from_memory(std::string(bytes.begin(), bytes.end()), l.vdb_path, o);
+      }
+      if (!r.ok) {
+        const std::string msg = layer_name(i) + ": " + r.error;
+        load_errors->push_back(msg);
+        if (result.ok()) result = bad(ATMO_ERROR_IO, msg);
+        continue;
+      }
+      for (const std::string& w : r.warnings) load_errors->push_back(layer_name(i) + ": warning: " + w);
+      clouds::CloudVolume v = std::move(r.volume);
+      apply_optics(l, &v);
+      const double heading = l.rotation_deg[0] * M_PI / 180.0;
+      // Heading turns the file's axes clockwise seen from above (east towards south).
+      v.rotation = glm::angleAxis(-heading, glm::dvec3(0.0, 0.0, 1.0));
+      const glm::dvec3 pos(l.position_enu_m[0], l.position_enu_m[1], l.position_enu_m[2]);
+      v.origin_enu_m = pos + v.rotation * v.origin_enu_m;
+      clouds::CloudField f;
+      f.instances.push_back({0, v.origin_enu_m});
+      f.prototypes.push_back(std::move(v));
+      append_field(std::move(f), &c.field);
+    } else {
+      clouds::CloudLayerSpec spec;
+      spec.type = procedural_type(l.type);
+      spec.coverage_oktas = l.type == ATMO_CLOUD_OVERCAST ? 8 : l.coverage_oktas;
+      spec.base_m = l.base_m;
+      spec.top_m = l.top_m;
+      spec.area_size_m = l.area_size_m > 0.0 ? l.area_size_m : 20000.0;
+      spec.area_centre_enu_m = glm::dvec2(l.area_centre_enu_m[0], l.area_centre_enu_m[1]);
+      spec.seed = l.seed ^ ctx.seed;
+      clouds::GeneratedLayer g = clouds::generate_cloud_layer(spec);
+      for (clouds::CloudVolume& v : g.field.prototypes) apply_optics(l, &v);
+      append_field(std::move(g.field), &c.field);
+    }
+  }
+  c.depths.resize(c.field.prototypes.size());
+  for (size_t p = 0; p < c.field.prototypes.size(); ++p) clouds::compute_ambient_depths(c.field.prototypes[p], &c.depths[p]);
+  c.version = out->version + 1;
+  *out = std::move(c);
+  return result;
+}
+
+clouds::CloudLight cloud_light(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene) {
+  const core::SkyLighting& sky = view_sky_lighting(ctx, view, scene);
+  const twin::AtmosphereParameters& atm = scene.atmosphere;
+  const glm::vec2 lut_size(ctx->lut.width, ctx->lut.height);
+  // The light at the clouds' mean height: the transmittance from there (the
+  // layers are near the eye's horizon, so the eye's direction serves).
+  double mean_height = 0.0;
+  for (const clouds::CloudInstance& i : ctx->clouds.field.instances) {
+    const clouds::CloudVolume& v = ctx->clouds.field.prototypes[static_cast<size_t>(i.prototype)];
+    mean_height += i.origin_enu_m.z + 0.5 * v.extent_m().z;
+  }
+  mean_height /= std::max<size_t>(1, ctx->clouds.field.instances.size());
+  const double altitude = std::max(1.0, ctx->clouds.origin.height_m + mean_height);
+  const float r = atm.bottom_radius_m + static_cast<float>(altitude);
+  const glm::vec3 sun_t =
+      twin::transmittance_to_sun(atm, ctx->lut, lut_size, r, static_cast<float>(scene.sun_direction_enu.z));
+  const glm::dvec3 sun_lux = glm::dvec3(atm.sun_illuminance_lux * sun_t);
+  const glm::vec3 moon_t =
+      twin::transmittance_to_sun(atm, ctx->lut, lut_size, r, static_cast<float>(scene.bodies.moon_enu.z));
+  const glm::dvec3 moon_lux = scene.bodies.moon_illuminance_rgb_lux * glm::dvec3(moon_t);
+  const bool moon = moon_lux.g > sun_lux.g;
+  const glm::dmat3 to_clouds = cloud_enu_from_eye_enu(ctx->clouds, view->eye.ecef_from_enu);
+  clouds::CloudLight light;
+  light.direction_enu = glm::normalize(to_clouds * (moon ? scene.bodies.moon_enu : scene.sun_direction_enu));
+  light.illuminance_lux = moon ? moon_lux : sun_lux;
+  light.sky_radiance = sky.average_radiance;
+  // The ground under the clouds: Lambertian, lit by the light and the sky.
+  const double albedo = static_cast<double>(atm.ground_albedo.g);
+  const glm::dvec3 ground_lux = light.illuminance_lux * std::max(0.0, light.direction_enu.z) + sky.horizontal_illuminance_lux;
+  light.ground_radiance = albedo * ground_lux / M_PI;
+  return light;
+}
+
+bool relight_clouds(ContextClouds* c, const glm::dvec3& light_dir) {
+  if (c->empty()) return false;
+  const bool lit = glm::length(c->lit_direction_enu) > 0.5;
+  if (lit && glm::dot(c->lit_direction_enu, light_dir) >= std::cos(c->settings.light_threshold_rad)) return false;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (size_t p = 0; p < c->field.prototypes.size(); ++p) {
+    clouds::compute_light_depth_slices(c->field.prototypes[p], light_dir, 0, c->field.prototypes[p].density.nz,
+                                       &c->depths[p]);
+  }
+  c->relight_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  c->lit_direction_enu = light_dir;
+  ++c->version;
+  return true;
+}
+
+glm::dvec3 eye_in_cloud_frame(const ContextClouds& c, const glm::dvec3& eye_ecef_m) {
+  return glm::transpose(c.ecef_from_enu) * (eye_ecef_m - c.origin_ecef_m);
+}
+
+glm::dmat3 cloud_enu_from_eye_enu(const ContextClouds& c, const glm::dmat3& ecef_from_eye_enu) {
+  return glm::transpose(c.ecef_from_enu) * ecef_from_eye_enu;
+}
+
+}  // namespace atmo::abi

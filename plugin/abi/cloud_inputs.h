@@ -1,0 +1,68 @@
+// cloud_inputs.h — the clouds of a context (set_clouds): validation of the
+// host's layers, building the cloud field (procedural generation, VDB files
+// through the host's file service), and per frame what the cloud pass needs:
+// the light, the eye in the clouds' frame, and the light grids, relit when the
+// light has moved beyond the threshold. No GL.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "atmo/atmo.h"
+#include "abi/validation.h"
+#include "core/clouds/cloud_field.h"
+#include "core/clouds/cloud_lighting.h"
+#include "core/clouds/cloud_optics.h"
+#include "core/geodesy.h"
+
+struct AtmoContext_T;
+struct AtmoView_T;
+
+namespace atmo::core {
+struct Scene;
+}
+
+namespace atmo::abi {
+
+struct CloudSettings {
+  int march_divisor = 2;               // the march renders at 1/n per axis
+  float march_step_voxels = 1.0f;
+  int octaves = 6;
+  double light_threshold_rad = 0.5 * M_PI / 180.0;
+};
+
+// A context's clouds. Only the host's thread touches it.
+struct ContextClouds {
+  clouds::CloudField field;
+  std::vector<clouds::LightDepths> depths;  // per prototype; tau_light for lit_direction_enu
+  glm::dvec3 lit_direction_enu{0.0};        // the clouds' frame; zero: never lit
+  uint64_t version = 0;                      // bumps when the field or its light grids change (GL re-uploads)
+  core::Geodetic origin;                     // the clouds' ENU frame
+  glm::dvec3 origin_ecef_m{0.0};
+  glm::dmat3 ecef_from_enu{1.0};
+  CloudSettings settings;
+  double relight_ms = 0.0;                   // the last relight, for logs and benchmarks
+  bool empty() const { return field.instances.empty(); }
+};
+
+// Validates every layer of `state` (nothing changes on an error) and builds
+// the field into *out. Layers that fail to load (files) are left out and
+// listed in *load_errors; the verdict is then ATMO_ERROR_IO with the first.
+Verdict build_clouds(const AtmoCloudsState& state, const AtmoContext_T& context, ContextClouds* out,
+                     std::vector<std::string>* load_errors);
+
+// The light the clouds are lit by this frame (the Sun, or the Moon when it
+// outshines it), in the clouds' frame, with the sky and ground radiance.
+clouds::CloudLight cloud_light(AtmoContext_T* context, AtmoView_T* view, const core::Scene& scene);
+
+// Relights the clouds when the light moved beyond the threshold (or never
+// lit). Returns true when the grids changed.
+bool relight_clouds(ContextClouds* clouds, const glm::dvec3& light_direction_enu);
+
+// The eye in the clouds' ENU frame, and the rotation from the view's ENU axes
+// (at the eye) to the clouds' ENU axes.
+glm::dvec3 eye_in_cloud_frame(const ContextClouds& clouds, const glm::dvec3& eye_ecef_m);
+glm::dmat3 cloud_enu_from_eye_enu(const ContextClouds& clouds, const glm::dmat3& ecef_from_eye_enu);
+
+}  // namespace atmo::abi

@@ -1,0 +1,164 @@
+// The cloud pass through the ABI: set_clouds validation (each bad field named,
+// nothing changed), a missing or corrupt VDB file left out while the other
+// layers still draw, no clouds -> no cost, and finite output where the march
+// is known to be fragile: inside a cloud, above a deck, the Sun below the
+// horizon, far from the origin.
+#include <glad/gl.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "plugin_gl_fixture.h"
+#include "atmo_support/image.h"
+#include "atmo_support/image_metrics.h"
+
+namespace {
+
+using namespace plugin_gl;
+
+AtmoCloudLayer cumulus(double base = 1200.0, double top = 2200.0) {
+  AtmoCloudLayer l = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
+  l.type = ATMO_CLOUD_CUMULUS;
+  l.coverage_oktas = 5;
+  l.base_m = base;
+  l.top_m = top;
+  l.area_size_m = 6000.0;
+  l.seed = 4;
+  return l;
+}
+
+AtmoCloudsState clouds_at_innsbruck(const AtmoCloudLayer* layers, uint32_t count) {
+  AtmoCloudsState s = atmo::make<AtmoCloudsState>(ATMO_TYPE_CLOUDS_STATE);
+  s.origin_geodetic[0] = 47.26;
+  s.origin_geodetic[1] = 11.35;
+  s.origin_geodetic[2] = 0.0;
+  s.layers = layers;
+  s.layer_count = count;
+  return s;
+}
+
+AtmoResult raw_set_clouds(Fixture& f, const AtmoCloudsState& s) {
+  return f.plugin->api().set_clouds(f.context->handle(), &s);
+}
+
+// Renders the clouds pass alone over black; returns the pass's result.
+AtmoResult draw_clouds(Fixture& f, double height_m, double pitch_deg, atmo::support::Image* out, double utc = 1.72e9) {
+  auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+  frame.utc_posix_s = utc;
+  f.context->set_frame(frame);
+  const glm::dmat4 proj = glm::perspective(glm::radians(60.0), double(kWidth) / kHeight, 1.0, 1e5);
+  AtmoViewState vs = innsbruck_view(height_m, 0.0, pitch_deg, proj);
+  f.view->set(vs);
+  f.target->bind();
+  glClearColor(0, 0, 0, 0);
+  glClear(GL_COLOR_BUFFER_BIT);
+  const AtmoResult r = f.view->render(ATMO_PASS_CLOUDS);
+  glFinish();
+  *out = f.target->read_color();
+  return r;
+}
+
+size_t count_bad(const atmo::support::Image& img) { return atmo::support::count_nonfinite(img); }
+
+double mean_luminance(const atmo::support::Image& img) {
+  double s = 0.0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) s += atmo::support::luminance(img.pixel(x, y));
+  return s / (img.width * img.height);
+}
+
+TEST(CloudsPass, NoCloudsCostsNothing) {
+  Fixture f;
+  atmo::support::Image img;
+  EXPECT_EQ(draw_clouds(f, 500.0, 10.0, &img), ATMO_STATUS_NOTHING_TO_DRAW);
+  const AtmoCloudsState none = clouds_at_innsbruck(nullptr, 0);
+  EXPECT_EQ(raw_set_clouds(f, none), ATMO_SUCCESS);
+  EXPECT_EQ(draw_clouds(f, 500.0, 10.0, &img), ATMO_STATUS_NOTHING_TO_DRAW);
+}
+
+TEST(CloudsPass, InvalidStatesAreRejectedWithTheFieldNamed) {
+  Fixture f;
+  AtmoCloudLayer good = cumulus();
+  struct Case {
+    const char* what;
+    AtmoCloudLayer layer;
+    AtmoResult code;
+    const char* message;
+  };
+  std::vector<Case> cases;
+  AtmoCloudLayer l = good;
+  l.type = 99;
+  cases.push_back({"bad type", l, ATMO_ERROR_INVALID_ARGUMENT, "layers[0].type = 99"});
+  l = good;
+  l.base_m = std::nan("");
+  cases.push_back({"NaN base", l, ATMO_ERROR_NON_FINITE_VALUE, "layers[0]"});
+  l = good;
+  l.top_m = 900.0;
+  cases.push_back({"top below base", l, ATMO_ERROR_OUT_OF_RANGE, "base_m"});
+  l = good;
+  l.coverage_oktas = 9;
+  cases.push_back({"9 oktas", l, ATMO_ERROR_OUT_OF_RANGE, "coverage_oktas = 9"});
+  l = good;
+  l.header.struct_size = 40;
+  cases.push_back({"undersized layer", l, ATMO_ERROR_STRUCT_TOO_SMALL, "struct_size is 40"});
+  l = good;
+  l.type = ATMO_CLOUD_VDB_FILE;
+  cases.push_back({"vdb without a path", l, ATMO_ERROR_INVALID_ARGUMENT, "vdb_path is NULL"});
+  for (const Case& c : cases) {
+    const AtmoCloudsState s = clouds_at_innsbruck(&c.layer, 1);
+    EXPECT_EQ(raw_set_clouds(f, s), c.code) << c.what;
+    EXPECT_NE(f.context->last_error().find(c.message), std::string::npos) << c.what << ": " << f.context->last_error();
+  }
+  // Nothing changed: still no clouds.
+  atmo::support::Image img;
+  EXPECT_EQ(draw_clouds(f, 500.0, 10.0, &img), ATMO_STATUS_NOTHING_TO_DRAW);
+}
+
+TEST(CloudsPass, ABadVdbFileIsLeftOutAndTheRestDraws) {
+  Fixture f;
+  const std::string corrupt = ::testing::TempDir() + "atmo_corrupt.vdb";
+  std::ofstream(corrupt, std::ios::binary) << "not a vdb file at all";
+  AtmoCloudLayer layers[3] = {cumulus(), cumulus(), cumulus()};
+  layers[1].type = ATMO_CLOUD_VDB_FILE;
+  layers[1].vdb_path = "/nonexistent/cloud.vdb";
+  layers[2].type = ATMO_CLOUD_VDB_FILE;
+  layers[2].vdb_path = corrupt.c_str();
+  const AtmoCloudsState s = clouds_at_innsbruck(layers, 3);
+  EXPECT_EQ(raw_set_clouds(f, s), ATMO_ERROR_IO);
+  const std::string e = f.context->last_error();
+  std::printf("set_clouds: %s\n", e.c_str());
+  EXPECT_NE(e.find("/nonexistent/cloud.vdb"), std::string::npos) << e;
+  atmo::support::Image img;
+  EXPECT_EQ(draw_clouds(f, 500.0, 15.0, &img), ATMO_SUCCESS);  // the cumulus layer is kept
+  EXPECT_EQ(count_bad(img), 0u);
+  EXPECT_GT(mean_luminance(img), 0.0);
+}
+
+TEST(CloudsPass, FiniteWhereTheMarchIsFragile) {
+  Fixture f;
+  const AtmoCloudLayer layer = cumulus(1200.0, 2200.0);
+  const AtmoCloudsState s = clouds_at_innsbruck(&layer, 1);
+  ASSERT_EQ(raw_set_clouds(f, s), ATMO_SUCCESS);
+  struct Case {
+    const char* what;
+    double height_m, pitch_deg, utc;
+  };
+  const Case cases[] = {
+      {"below the layer, noon", 500.0, 20.0, 1.72e9},
+      {"inside the layer", 1700.0, 0.0, 1.72e9},
+      {"above the layer looking down", 4000.0, -45.0, 1.72e9},
+      {"night (Sun below the horizon)", 500.0, 20.0, 1.72e9 + 12 * 3600},
+      {"high above", 60000.0, -60.0, 1.72e9},
+  };
+  for (const Case& c : cases) {
+    atmo::support::Image img;
+    const AtmoResult r = draw_clouds(f, c.height_m, c.pitch_deg, &img, c.utc);
+    EXPECT_GE(r, 0) << c.what;
+    EXPECT_EQ(count_bad(img), 0u) << c.what;
+    std::printf("%-32s %s, mean %.4g cd/m^2\n", c.what, f.plugin->result_string(r).c_str(), mean_luminance(img));
+  }
+}
+
+}  // namespace
