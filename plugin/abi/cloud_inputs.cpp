@@ -176,6 +176,9 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
       append_field(std::move(g.field), &c.field);
     }
   }
+  for (const clouds::CloudInstance& i : c.field.instances)
+    c.mean_centre_height_m += c.field.prototypes[static_cast<size_t>(i.prototype)].centre_at(i.origin_enu_m).z;
+  c.mean_centre_height_m /= static_cast<double>(std::max<size_t>(1, c.field.instances.size()));
   c.depths.resize(c.field.prototypes.size());
   for (size_t p = 0; p < c.field.prototypes.size(); ++p) clouds::compute_ambient_depths(c.field.prototypes[p], &c.depths[p]);
   c.version = out->version + 1;
@@ -189,13 +192,7 @@ clouds::CloudLight cloud_light(AtmoContext_T* ctx, AtmoView_T* view, const core:
   const glm::vec2 lut_size(ctx->lut.width, ctx->lut.height);
   // The light at the clouds' mean height: the transmittance from there (the
   // layers are near the eye's horizon, so the eye's direction serves).
-  double mean_height = 0.0;
-  for (const clouds::CloudInstance& i : ctx->clouds.field.instances) {
-    const clouds::CloudVolume& v = ctx->clouds.field.prototypes[static_cast<size_t>(i.prototype)];
-    mean_height += i.origin_enu_m.z + 0.5 * v.extent_m().z;
-  }
-  mean_height /= std::max<size_t>(1, ctx->clouds.field.instances.size());
-  const double altitude = std::max(1.0, ctx->clouds.origin.height_m + mean_height);
+  const double altitude = std::max(1.0, ctx->clouds.origin.height_m + ctx->clouds.mean_centre_height_m);
   const float r = atm.bottom_radius_m + static_cast<float>(altitude);
   const glm::vec3 sun_t =
       twin::transmittance_to_sun(atm, ctx->lut, lut_size, r, static_cast<float>(scene.sun_direction_enu.z));

@@ -41,6 +41,7 @@ struct ContextClouds {
   core::Geodetic origin;                     // the clouds' ENU frame
   glm::dvec3 origin_ecef_m{0.0};
   glm::dmat3 ecef_from_enu{1.0};
+  double mean_centre_height_m = 0.0;         // of the clouds' centres, above origin: where the light is taken
   CloudSettings settings;
   double relight_ms = 0.0;                   // the last relight, for logs and benchmarks
   bool empty() const { return field.instances.empty(); }

@@ -172,16 +172,17 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
   struct Item {
     double distance;
     size_t index;
+    glm::dvec3 centre;  // eye-relative, the eye's ENU axes
   };
   std::vector<Item> items;
   const std::vector<clouds::CloudVolume>& protos = frame.field->prototypes;
   for (size_t i = 0; i < frame.field->instances.size(); ++i) {
     const clouds::CloudInstance& inst = frame.field->instances[i];
     const clouds::CloudVolume& v = protos[static_cast<size_t>(inst.prototype)];
-    const glm::dvec3 centre = M * (inst.origin_enu_m + v.rotation * (0.5 * v.extent_m()) - frame.eye_in_clouds_m);
+    const glm::dvec3 centre = M * (v.centre_at(inst.origin_enu_m) - frame.eye_in_clouds_m);
     const double r = v.bounding_radius_m();
     if (glm::dot(centre, forward) < -r) continue;  // wholly behind the camera
-    items.push_back({glm::length(centre), i});
+    items.push_back({glm::length(centre), i, centre});
   }
   if (items.empty()) return true;
   std::sort(items.begin(), items.end(), [](const Item& a, const Item& b) { return a.distance < b.distance; });
@@ -246,7 +247,6 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
       const glm::dmat3 axes = M * glm::mat3_cast(v.rotation);
       const glm::vec3 origin(M * (inst.origin_enu_m - frame.eye_in_clouds_m));
       const glm::vec3 light_grid = clouds::grid_direction(v, frame.light.direction_enu);
-      const glm::vec3 centre(M * (inst.origin_enu_m + v.rotation * (0.5 * v.extent_m()) - frame.eye_in_clouds_m));
       const glm::vec3 off = atlas_offsets_[pi];
       packed.push_back(glm::vec4(origin, v.voxel_size_m));
       packed.push_back(glm::vec4(glm::vec3(axes[0]), v.optics.extinction_per_m));
@@ -254,7 +254,7 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
       packed.push_back(glm::vec4(glm::vec3(axes[2]), off.x));
       packed.push_back(glm::vec4(v.density.nx, v.density.ny, v.density.nz, off.y));
       packed.push_back(glm::vec4(light_grid, off.z));
-      packed.push_back(glm::vec4(centre, static_cast<float>(v.bounding_radius_m())));
+      packed.push_back(glm::vec4(glm::vec3(items[k].centre), static_cast<float>(v.bounding_radius_m())));
     }
     glUniform4fv(march_.instances, static_cast<GLsizei>(packed.size()), glm::value_ptr(packed[0]));
     glUniform1i(march_.instance_count, static_cast<GLint>(end - begin));

@@ -373,33 +373,23 @@ TEST(ProceduralCirrus, OpticalDepthIsThin) {
 }
 
 TEST(ProceduralMemory, HugeAreasStayWithinTheVoxelBudget) {
-  {
-    // Cumulus prototypes are shared, so a 200 km area costs what a 20 km one
-    // does; a small budget forces the coarsening.
-    CloudLayerSpec s = make_spec(CloudLayerType::Cumulus, 8, 1200, 2500, 200000, 4);
-    s.max_total_voxels = 1u << 20;
+  // Generates `s`, prints what it cost, and checks the budget held by coarsening.
+  auto check = [](const char* label, const CloudLayerSpec& s) {
     const auto t0 = std::chrono::steady_clock::now();
     const GeneratedLayer g = generate_cloud_layer(s);
-    std::printf("cumulus 200 km, 8 oktas, budget %zu: %zu voxels (%.1f MiB), voxel %.1f m, %zu instances, "
-                "coverage %.3f, %.2f s\n",
+    std::printf("%s, budget %zu: %zu voxels (%.1f MiB), voxel %.1f m, %zu instances, coverage %.3f, %.2f s\n", label,
                 s.max_total_voxels, total_voxels(g.field), g.field.memory_bytes() / 1048576.0,
                 g.field.prototypes[0].voxel_size_m, g.field.instances.size(), g.coverage_fraction, seconds_since(t0));
     for (const std::string& n : g.notes) std::printf("  note: %s\n", n.c_str());
-    EXPECT_LE(total_voxels(g.field), s.max_total_voxels);
-    EXPECT_TRUE(has_note(g, "coarsened"));
-  }
-  {
-    const CloudLayerSpec s = make_spec(CloudLayerType::Stratus, 8, 300, 700, 200000, 4);
-    const auto t0 = std::chrono::steady_clock::now();
-    const GeneratedLayer g = generate_cloud_layer(s);
-    std::printf("stratus 200 km, 8 oktas, budget %zu: %zu voxels (%.1f MiB), voxel %.1f m, %zu tiles, "
-                "coverage %.3f, %.2f s\n",
-                s.max_total_voxels, total_voxels(g.field), g.field.memory_bytes() / 1048576.0,
-                g.field.prototypes[0].voxel_size_m, g.field.instances.size(), g.coverage_fraction, seconds_since(t0));
-    for (const std::string& n : g.notes) std::printf("  note: %s\n", n.c_str());
-    EXPECT_LE(total_voxels(g.field), s.max_total_voxels);
-    EXPECT_TRUE(has_note(g, "coarsened"));
-  }
+    EXPECT_LE(total_voxels(g.field), s.max_total_voxels) << label;
+    EXPECT_TRUE(has_note(g, "coarsened")) << label;
+  };
+  // Cumulus prototypes are shared, so a 200 km area costs what a 20 km one
+  // does; a small budget forces the coarsening.
+  CloudLayerSpec cumulus = make_spec(CloudLayerType::Cumulus, 8, 1200, 2500, 200000, 4);
+  cumulus.max_total_voxels = 1u << 20;
+  check("cumulus 200 km, 8 oktas", cumulus);
+  check("stratus 200 km, 8 oktas", make_spec(CloudLayerType::Stratus, 8, 300, 700, 200000, 4));
 }
 
 TEST(ProceduralSeams, StratusTilesJoinWithoutASeam) {

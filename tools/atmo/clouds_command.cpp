@@ -32,7 +32,7 @@ int run_clouds(const Options& options) {
     spec.coverage_oktas = c.type == sc::CloudType::Overcast ? 8 : c.coverage_oktas;
     spec.base_m = c.base_m;
     spec.top_m = c.top_m;
-    spec.area_size_m = c.area_m > 0.0 ? c.area_m : (s.terrain ? s.terrain->size_m : 20000.0);
+    spec.area_size_m = sc::cloud_layer_area_m(s, c);
     spec.seed = c.seed;  // the plugin mixes in its context seed (0 for atmo render)
     clouds::GeneratedLayer g = clouds::generate_cloud_layer(spec);
     std::printf("layer %zu (%s): %zu clouds from %zu volumes, coverage %.3f (asked %d/8)\n", i,

@@ -120,7 +120,6 @@ std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
 void set_clouds(const sc::Scenario& scenario, atmo::Context& context) {
   if (scenario.clouds.empty()) return;
   const hs::Geodetic origin = to_host(scenario.location);
-  const double default_area = scenario.terrain ? scenario.terrain->size_m : 20000.0;
   std::vector<AtmoCloudLayer> layers;
   std::vector<std::string> paths(scenario.clouds.size());
   for (size_t i = 0; i < scenario.clouds.size(); ++i) {
@@ -148,7 +147,7 @@ void set_clouds(const sc::Scenario& scenario, atmo::Context& context) {
       l.coverage_oktas = c.coverage_oktas;
       l.base_m = c.base_m;
       l.top_m = c.top_m;
-      l.area_size_m = c.area_m > 0.0 ? c.area_m : default_area;
+      l.area_size_m = sc::cloud_layer_area_m(scenario, c);
     }
     layers.push_back(l);
   }

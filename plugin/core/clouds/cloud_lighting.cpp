@@ -61,24 +61,12 @@ LightDepths compute_light_depths(const CloudVolume& cloud, const glm::dvec3& lig
 }
 
 glm::vec4 fetch_cloud_volume(const CpuCloudVolume& v, const glm::vec3& index_point) {
-  // Trilinear over voxel centres, zero outside: GL_LINEAR with a zero border.
   const DenseGrid& g = *v.density;
   const LightDepths& d = *v.depths;
-  const glm::vec3 p = index_point - 0.5f;
-  const int x0 = static_cast<int>(std::floor(p.x));
-  const int y0 = static_cast<int>(std::floor(p.y));
-  const int z0 = static_cast<int>(std::floor(p.z));
-  const glm::vec3 f = p - glm::vec3(x0, y0, z0);
-  glm::vec4 sum(0.0f);
-  for (int c = 0; c < 8; ++c) {
-    const int x = x0 + (c & 1), y = y0 + ((c >> 1) & 1), z = z0 + ((c >> 2) & 1);
-    if (x < 0 || y < 0 || z < 0 || x >= g.nx || y >= g.ny || z >= g.nz) continue;
-    const float w = ((c & 1) ? f.x : 1.0f - f.x) * (((c >> 1) & 1) ? f.y : 1.0f - f.y) *
-                    (((c >> 2) & 1) ? f.z : 1.0f - f.z);
+  return trilinear_zero_border<glm::vec4>(g.nx, g.ny, g.nz, index_point, [&](int x, int y, int z) {
     const glm::vec3& t = d.tau[d.index(x, y, z)];
-    sum += w * glm::vec4(g.at(x, y, z), t.x, t.y, t.z);
-  }
-  return sum;
+    return glm::vec4(g.at(x, y, z), t.x, t.y, t.z);
+  });
 }
 
 std::vector<float> pack_cloud_texels(const DenseGrid& density, const LightDepths& depths) {

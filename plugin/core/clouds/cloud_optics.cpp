@@ -18,7 +18,7 @@ twin::CloudPhase phase_for_droplet(float droplet_diameter_um) {
 twin::CloudOctaves default_octaves() {
   twin::CloudOctaves o{};
   // From the sweep in tests/clouds/octaves_vs_path_tracer_test.cpp (mean
-  // relative error against the path tracer 36 %, single scattering 80 %):
+  // relative error against the path tracer 33-36 %, single scattering 80 %):
   // the approximation still misses the diffuse light deep in thick clouds.
   o.count = 8;
   o.extinction_scale = 0.3f;

@@ -10,6 +10,7 @@
 // scenario/world origin, metres: p_enu = origin_enu_m + rotation * p_grid.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -19,6 +20,27 @@
 #include <glm/gtc/quaternion.hpp>
 
 namespace atmo::clouds {
+
+// Trilinear interpolation over voxel centres (integer + 0.5) of an nx*ny*nz
+// grid, zero outside, as GL_LINEAR with a zero border samples a 3D texture:
+// `at(x, y, z)` gives the value of an in-range voxel (any type with + and *float).
+template <typename T, typename At>
+T trilinear_zero_border(int nx, int ny, int nz, const glm::vec3& index_point, const At& at) {
+  const glm::vec3 p = index_point - 0.5f;
+  const int x0 = static_cast<int>(std::floor(p.x));
+  const int y0 = static_cast<int>(std::floor(p.y));
+  const int z0 = static_cast<int>(std::floor(p.z));
+  const glm::vec3 f = p - glm::vec3(x0, y0, z0);
+  T sum = T(0);
+  for (int c = 0; c < 8; ++c) {
+    const int x = x0 + (c & 1), y = y0 + ((c >> 1) & 1), z = z0 + ((c >> 2) & 1);
+    if (x < 0 || y < 0 || z < 0 || x >= nx || y >= ny || z >= nz) continue;
+    const float w = ((c & 1) ? f.x : 1.0f - f.x) * (((c >> 1) & 1) ? f.y : 1.0f - f.y) *
+                    (((c >> 2) & 1) ? f.z : 1.0f - f.z);
+    sum += w * at(x, y, z);
+  }
+  return sum;
+}
 
 // Density samples, x fastest then y then z.
 struct DenseGrid {
@@ -70,8 +92,10 @@ struct CloudVolume {
   glm::dvec3 extent_m() const {
     return glm::dvec3(density.nx, density.ny, density.nz) * static_cast<double>(voxel_size_m);
   }
-  // Scene-frame centre of the grid box and the radius of its bounding sphere.
-  glm::dvec3 centre_enu_m() const { return origin_enu_m + rotation * (0.5 * extent_m()); }
+  // Scene-frame centre of the grid box (of a copy whose origin is `origin`)
+  // and the radius of its bounding sphere.
+  glm::dvec3 centre_at(const glm::dvec3& origin) const { return origin + rotation * (0.5 * extent_m()); }
+  glm::dvec3 centre_enu_m() const { return centre_at(origin_enu_m); }
   double bounding_radius_m() const { return 0.5 * glm::length(extent_m()); }
   size_t memory_bytes() const { return density.values.size() * sizeof(float); }
 };

@@ -474,27 +474,12 @@ class DeckModel {
   // Density before the holes, in [0, 1].
   float density(const DeckColumn& c, double x, double y, double z) const {
     switch (type_) {
-      case CloudLayerType::Stratus: {
-        const float above = static_cast<float>(c.a - z);
-        if (above <= 0.0f) return 0.0f;
-        const float thick = static_cast<float>(c.a - base_);
-        const float hf = static_cast<float>(z - base_) / thick;
-        // Flat base (the grid starts there), a soft top over 20 % of the
-        // deck; liquid water grows with height in a stratus (adiabatic).
-        const float top = smoothstep(0.0f, std::max(0.8f * float(v_), 0.2f * thick), above);
-        const float core = 0.55f + 0.3f * hf + 0.2f * noise::fbm(x / 600.0, y / 600.0, z / 300.0, 3, seeds_[3]);
-        return std::clamp(core, 0.0f, 1.0f) * top;
-      }
-      case CloudLayerType::Overcast: {
-        const float above = static_cast<float>(c.a - z);
-        if (above <= 0.0f) return 0.0f;
-        const float thick = static_cast<float>(c.a - base_);
-        const float hf = static_cast<float>(z - base_) / thick;
+      case CloudLayerType::Stratus:
+        // Liquid water grows with height in a stratus (adiabatic); a soft top over 20 % of the deck.
+        return deck_density(c, x, y, z, 0.2f, 0.55f, 0.3f, 0.2f);
+      case CloudLayerType::Overcast:
         // Dense and uniform, denser low down (the dark base of a thick deck).
-        const float top = smoothstep(0.0f, std::max(0.8f * float(v_), 0.12f * thick), above);
-        const float core = 0.95f - 0.3f * hf + 0.12f * noise::fbm(x / 600.0, y / 600.0, z / 300.0, 3, seeds_[3]);
-        return std::clamp(core, 0.0f, 1.0f) * top;
-      }
+        return deck_density(c, x, y, z, 0.12f, 0.95f, -0.3f, 0.12f);
       case CloudLayerType::Cirrus:
       default: {
         const double t = (z - c.a) / c.b;
@@ -505,6 +490,20 @@ class DeckModel {
         return profile * std::clamp(0.55f + 0.8f * detail, 0.1f, 1.0f);
       }
     }
+  }
+
+  // A stratiform deck: flat base (the grid starts there), a soft top over
+  // top_fraction of its depth, and core + slope * (height fraction) +
+  // noise_amplitude * fBm inside.
+  float deck_density(const DeckColumn& c, double x, double y, double z, float top_fraction, float core, float slope,
+                     float noise_amplitude) const {
+    const float above = static_cast<float>(c.a - z);
+    if (above <= 0.0f) return 0.0f;
+    const float thick = static_cast<float>(c.a - base_);
+    const float hf = static_cast<float>(z - base_) / thick;
+    const float top = smoothstep(0.0f, std::max(0.8f * float(v_), top_fraction * thick), above);
+    const float inside = core + slope * hf + noise_amplitude * noise::fbm(x / 600.0, y / 600.0, z / 300.0, 3, seeds_[3]);
+    return std::clamp(inside, 0.0f, 1.0f) * top;
   }
 
   // Width of the soft edge of the holes, in units of the coverage noise.

@@ -480,6 +480,11 @@ LoadResult load_scenario_file(const std::string& path) {
   return parse_scenario(text.str(), path);
 }
 
+double cloud_layer_area_m(const Scenario& scenario, const CloudLayer& layer) {
+  if (layer.area_m > 0.0) return layer.area_m;
+  return scenario.terrain ? scenario.terrain->size_m : 20000.0;
+}
+
 std::string resolve_path(const Scenario& scenario, const std::string& relative) {
   const std::filesystem::path p(relative);
   if (p.is_absolute() || scenario.source_dir.empty()) return relative;

@@ -201,6 +201,10 @@ LoadResult parse_scenario(const std::string& json_text, const std::string& file_
 // the scenario file's directory; absolute paths are returned unchanged.
 std::string resolve_path(const Scenario& scenario, const std::string& relative);
 
+// The side of the square a procedural cloud layer fills: its area_m, else the
+// terrain's size, else 20 km.
+double cloud_layer_area_m(const Scenario& scenario, const CloudLayer& layer);
+
 // Field names the loader accepts in each kind of object, keyed as in the
 // schema: "scenario" for the top level, else the schema's "$defs" name.
 // Exposed so a test can check that the schema and the loader agree.
