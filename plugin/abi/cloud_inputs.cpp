@@ -91,7 +91,8 @@ void append_field(clouds::CloudField&& f, clouds::CloudField* out) {
 Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, ContextClouds* out,
                      std::vector<std::string>* load_errors) {
   if (!finite_all(s.origin_geodetic, 3) || !std::isfinite(s.march_step_voxels) ||
-      !std::isfinite(s.light_update_threshold_deg))
+      !std::isfinite(s.light_update_threshold_deg) || !std::isfinite(s.impostor_angle_threshold_deg) ||
+      !std::isfinite(s.direct_march_radii) || !std::isfinite(s.impostor_max_pixels_per_texel))
     return bad(ATMO_ERROR_NON_FINITE_VALUE, "AtmoCloudsState holds a NaN or infinite number");
   if (std::abs(s.origin_geodetic[0]) > 90.0)
     return bad(ATMO_ERROR_OUT_OF_RANGE, "AtmoCloudsState.origin_geodetic latitude " +
@@ -103,6 +104,20 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
     return bad(ATMO_ERROR_OUT_OF_RANGE, "AtmoCloudsState quality knobs: march_resolution_divisor [1, 8], "
                                         "march_step_voxels [0.25, 8], multiple_scattering_octaves [1, 8], "
                                         "light_update_threshold_deg [0, 30] (0: defaults)");
+  if (s.draw_mode >= ATMO_CLOUD_DRAW_MODE_COUNT)
+    return bad(ATMO_ERROR_INVALID_ARGUMENT, "AtmoCloudsState.draw_mode = " + std::to_string(s.draw_mode) +
+                                                " is not an AtmoCloudDrawMode");
+  if ((s.impostor_texels != 0 && (s.impostor_texels < 16 || s.impostor_texels > 512)) ||
+      (s.impostor_angle_threshold_deg != 0.0 &&
+       (s.impostor_angle_threshold_deg < 0.05 || s.impostor_angle_threshold_deg > 10.0)) ||
+      s.impostor_updates_per_frame > 4096 ||
+      (s.direct_march_radii != 0.0 && (s.direct_march_radii < 1.0 || s.direct_march_radii > 100.0)) ||
+      (s.impostor_max_pixels_per_texel != 0.0 &&
+       (s.impostor_max_pixels_per_texel < 0.25 || s.impostor_max_pixels_per_texel > 8.0)))
+    return bad(ATMO_ERROR_OUT_OF_RANGE, "AtmoCloudsState impostor knobs: impostor_texels [16, 512], "
+                                        "impostor_angle_threshold_deg [0.05, 10], impostor_updates_per_frame "
+                                        "[1, 4096], direct_march_radii [1, 100], impostor_max_pixels_per_texel "
+                                        "[0.25, 8] (0: defaults)");
   // Read and validate every layer before building any.
   std::vector<AtmoCloudLayer> layers(s.layer_count);
   uint32_t stride = 0;
@@ -127,6 +142,13 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
   if (s.march_step_voxels > 0.0) c.settings.march_step_voxels = static_cast<float>(s.march_step_voxels);
   if (s.multiple_scattering_octaves) c.settings.octaves = static_cast<int>(s.multiple_scattering_octaves);
   if (s.light_update_threshold_deg > 0.0) c.settings.light_threshold_rad = s.light_update_threshold_deg * M_PI / 180.0;
+  c.settings.direct_only = s.draw_mode == ATMO_CLOUD_DRAW_DIRECT;
+  clouds::ImpostorSettings& imp = c.settings.impostors;
+  if (s.impostor_texels) imp.tile_texels = static_cast<int>(s.impostor_texels);
+  if (s.impostor_angle_threshold_deg > 0.0) imp.angle_threshold_rad = s.impostor_angle_threshold_deg * M_PI / 180.0;
+  if (s.impostor_updates_per_frame) imp.updates_per_frame = static_cast<int>(s.impostor_updates_per_frame);
+  if (s.direct_march_radii > 0.0) imp.near_radius_scale = s.direct_march_radii;
+  if (s.impostor_max_pixels_per_texel > 0.0) imp.max_pixels_per_texel = s.impostor_max_pixels_per_texel;
 
   Verdict result;
   for (uint32_t i = 0; i < s.layer_count; ++i) {
@@ -182,6 +204,7 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
   c.depths.resize(c.field.prototypes.size());
   for (size_t p = 0; p < c.field.prototypes.size(); ++p) clouds::compute_ambient_depths(c.field.prototypes[p], &c.depths[p]);
   c.version = out->version + 1;
+  c.field_version = c.version;
   *out = std::move(c);
   return result;
 }
@@ -215,17 +238,28 @@ clouds::CloudLight cloud_light(AtmoContext_T* ctx, AtmoView_T* view, const core:
 
 bool relight_clouds(ContextClouds* c, const glm::dvec3& light_dir) {
   if (c->empty()) return false;
-  const bool lit = glm::length(c->lit_direction_enu) > 0.5;
-  if (lit && glm::dot(c->lit_direction_enu, light_dir) >= std::cos(c->settings.light_threshold_rad)) return false;
-  const auto t0 = std::chrono::steady_clock::now();
-  for (size_t p = 0; p < c->field.prototypes.size(); ++p) {
-    clouds::compute_light_depth_slices(c->field.prototypes[p], light_dir, 0, c->field.prototypes[p].density.nz,
-                                       &c->depths[p]);
+  bool changed = false;
+  if (c->relight.job && c->relight.job->done()) {
+    c->relight.job->wait();
+    c->depths = c->relight.job->take();
+    c->lit_direction_enu = c->relight.job->direction();
+    c->relight_ms = c->relight.job->elapsed_ms();
+    c->relight.job.reset();
+    ++c->version;
+    changed = true;
   }
-  c->relight_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  c->lit_direction_enu = light_dir;
-  ++c->version;
-  return true;
+  if (glm::length(c->lit_direction_enu) < 0.5) {  // never lit: nothing to draw until it is
+    const auto t0 = std::chrono::steady_clock::now();
+    relight_all(c->field, light_dir, &c->depths);
+    c->relight_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    c->lit_direction_enu = light_dir;
+    ++c->version;
+    return true;
+  }
+  if (c->relight.job) return changed;  // one at a time: the next starts after it
+  if (glm::dot(c->lit_direction_enu, light_dir) >= std::cos(c->settings.light_threshold_rad)) return changed;
+  c->relight.job = std::make_unique<CloudRelightJob>(&c->field, c->depths, light_dir);
+  return changed;
 }
 
 glm::dvec3 eye_in_cloud_frame(const ContextClouds& c, const glm::dvec3& eye_ecef_m) {

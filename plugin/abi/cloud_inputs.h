@@ -6,14 +6,17 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "atmo/atmo.h"
+#include "abi/cloud_relight.h"
 #include "abi/validation.h"
 #include "core/clouds/cloud_field.h"
 #include "core/clouds/cloud_lighting.h"
 #include "core/clouds/cloud_optics.h"
+#include "core/clouds/impostor_policy.h"
 #include "core/geodesy.h"
 
 struct AtmoContext_T;
@@ -30,21 +33,31 @@ struct CloudSettings {
   float march_step_voxels = 1.0f;
   int octaves = 6;
   double light_threshold_rad = 0.5 * M_PI / 180.0;
+  bool direct_only = false;            // ATMO_CLOUD_DRAW_DIRECT: no impostors (the reference)
+  clouds::ImpostorSettings impostors;
 };
 
-// A context's clouds. Only the host's thread touches it.
+// A context's clouds. Only the host's thread touches it (and the relight
+// worker, which reads the field; see CloudRelightSlot).
 struct ContextClouds {
+  CloudRelightSlot relight;                  // first: see CloudRelightSlot
   clouds::CloudField field;
   std::vector<clouds::LightDepths> depths;  // per prototype; tau_light for lit_direction_enu
   glm::dvec3 lit_direction_enu{0.0};        // the clouds' frame; zero: never lit
   uint64_t version = 0;                      // bumps when the field or its light grids change (GL re-uploads)
+  uint64_t field_version = 0;                // bumps when the field changes (set_clouds): impostors start over
   core::Geodetic origin;                     // the clouds' ENU frame
   glm::dvec3 origin_ecef_m{0.0};
   glm::dmat3 ecef_from_enu{1.0};
   double mean_centre_height_m = 0.0;         // of the clouds' centres, above origin: where the light is taken
   CloudSettings settings;
   double relight_ms = 0.0;                   // the last relight, for logs and benchmarks
+  ContextClouds() = default;
+  ContextClouds(ContextClouds&&) = default;
+  ContextClouds& operator=(ContextClouds&&) = default;
+  ~ContextClouds() { relight.reset(); }  // before the field dies
   bool empty() const { return field.instances.empty(); }
+  bool relighting() const { return relight.job != nullptr; }
 };
 
 // Validates every layer of `state` (nothing changes on an error) and builds
@@ -57,8 +70,10 @@ Verdict build_clouds(const AtmoCloudsState& state, const AtmoContext_T& context,
 // outshines it), in the clouds' frame, with the sky and ground radiance.
 clouds::CloudLight cloud_light(AtmoContext_T* context, AtmoView_T* view, const core::Scene& scene);
 
-// Relights the clouds when the light moved beyond the threshold (or never
-// lit). Returns true when the grids changed.
+// Relights the clouds when the light moved beyond the threshold: the first
+// lighting at once, later ones on a worker (abi/cloud_relight.h) whose grids
+// are swapped in by the first call after it ends. Returns true when the grids
+// changed.
 bool relight_clouds(ContextClouds* clouds, const glm::dvec3& light_direction_enu);
 
 // The eye in the clouds' ENU frame, and the rotation from the view's ENU axes

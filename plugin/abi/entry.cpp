@@ -437,8 +437,9 @@ AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core::S
   frame.version = c.version;
   frame.eye_in_clouds_m = atmo::abi::eye_in_cloud_frame(c, view->eye.eye_ecef_m);
   frame.eye_enu_from_clouds = glm::transpose(atmo::abi::cloud_enu_from_eye_enu(c, view->eye.ecef_from_enu));
-  frame.phase = atmo::clouds::phase_for_droplet(c.field.prototypes.empty() ? 20.0f
-                                                    : c.field.prototypes[0].optics.droplet_diameter_um);
+  frame.field_version = c.field_version;
+  frame.direct_only = c.settings.direct_only;
+  frame.impostors = c.settings.impostors;
   frame.octaves = atmo::clouds::default_octaves();
   frame.octaves.count = c.settings.octaves;
   frame.divisor = c.settings.march_divisor;
@@ -447,6 +448,14 @@ AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core::S
   std::string error;
   if (!ctx->cloud_renderer.draw(ctx->renderer, inputs, frame, &drawn, &error))
     return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_CLOUDS)", error);
+  const atmo::gl::CloudDrawStats& st = ctx->cloud_renderer.last_stats();
+  ctx->services.log(ATMO_LOG_DEBUG, "clouds: " + std::to_string(st.in_view) + " in view, " +
+                                        std::to_string(st.impostors_drawn) + " from impostors (" +
+                                        std::to_string(st.impostors_created) + " new, " +
+                                        std::to_string(st.impostors_updated) + " re-rendered, " +
+                                        std::to_string(st.impostors_stale) + " stale left), " +
+                                        std::to_string(st.marched) + " marched; impostor atlas " +
+                                        std::to_string(ctx->cloud_renderer.impostor_bytes() >> 20) + " MiB");
   return drawn ? ATMO_SUCCESS : ATMO_STATUS_NOTHING_TO_DRAW;
 }
 

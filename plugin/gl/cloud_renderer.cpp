@@ -5,6 +5,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "core/clouds/cloud_optics.h"
 #include "gl/gl_state_guard.h"
 #include "gl/renderer.h"
 #include "gl/shader_program.h"
@@ -12,45 +13,81 @@
 namespace atmo::gl {
 
 namespace {
-constexpr GLuint kCloudUnit = kPassUnitsUsed;  // the atlas (march) or the low-res image (composite)
-constexpr int kUnitsUsed = kPassUnitsUsed + 1;
-constexpr int kVec4PerInstance = 7;  // clouds_march.frag's kFloatsPerInstance
+constexpr GLuint kCloudUnit = kPassUnitsUsed;  // the 3D atlas (march, bake), impostor colour (boards), the image (composite)
+constexpr GLuint kImpostorDepthUnit = kPassUnitsUsed + 1;
+constexpr int kUnitsUsed = kPassUnitsUsed + 2;
+constexpr int kVec4PerInstance = 9;  // cloud_instance.glsl
 constexpr int kMaxInstancesPerBatch = 64;
+constexpr int kVec4PerBoard = 4;     // clouds_impostor.vert
+constexpr int kMaxBoardsPerBatch = 64;
+
+// The light's scale: impostors store radiance over it, so half floats hold
+// noon and moonlight alike, and a slowly dimming light needs no re-render.
+double light_scale(const clouds::CloudLight& l) {
+  return std::max(l.illuminance_lux.g / M_PI + l.sky_radiance.g + l.ground_radiance.g, 1e-12);
+}
 }  // namespace
+
+// A cloud in view this frame.
+struct CloudRenderer::Item {
+  double distance_m;
+  size_t index;          // into the field's instances
+  double direct_weight;  // the direct march's share, [0, 1]
+};
 
 bool CloudRenderer::init(std::string* error) {
   if (initialised()) return true;
   while (glGetError() != GL_NO_ERROR) {}
   GlStateGuard guard(kUnitsUsed);
   march_.program = build_program("fullscreen.vert", "clouds_march.frag", "", error);
-  if (!march_.program) return false;
-  composite_ = build_program("fullscreen.vert", "clouds_composite.frag", "", error);
+  if (march_.program) bake_.program = build_program("fullscreen.vert", "clouds_impostor_bake.frag", "", error);
+  if (bake_.program) board_.program = build_program("clouds_impostor.vert", "clouds_impostor.frag", "", error);
+  if (board_.program) composite_ = build_program("fullscreen.vert", "clouds_composite.frag", "", error);
   if (!composite_) {
     destroy();
     return false;
   }
-  auto loc = [&](const char* name) { return glGetUniformLocation(march_.program, name); };
+  auto locate_cloud = [](GLuint program) {
+    InstanceUniforms u;
+    auto loc = [&](const char* name) { return glGetUniformLocation(program, name); };
+    u.atlas = loc("u_cloud_atlas");
+    u.atlas_size = loc("u_cloud_atlas_size");
+    u.instances = loc("u_instances");
+    u.instance_count = loc("u_instance_count");
+    u.light_illuminance = loc("u_light_illuminance");
+    u.sky_radiance = loc("u_sky_radiance");
+    u.ground_radiance = loc("u_ground_radiance");
+    u.step_voxels = loc("u_step_voxels");
+    u.max_steps = loc("u_max_steps");
+    const char* oct[5] = {"u_octaves.count", "u_octaves.extinction_scale", "u_octaves.scattering_scale",
+                          "u_octaves.eccentricity_scale", "u_octaves.ambient_extinction"};
+    for (int i = 0; i < 5; ++i) u.octaves[i] = loc(oct[i]);
+    return u;
+  };
   march_.pass = locate_pass_uniforms(march_.program);
-  march_.atlas = loc("u_cloud_atlas");
-  march_.atlas_size = loc("u_cloud_atlas_size");
-  march_.instances = loc("u_instances");
-  march_.instance_count = loc("u_instance_count");
-  march_.light_illuminance = loc("u_light_illuminance");
-  march_.sky_radiance = loc("u_sky_radiance");
-  march_.ground_radiance = loc("u_ground_radiance");
-  march_.step_voxels = loc("u_step_voxels");
-  march_.max_steps = loc("u_max_steps");
-  march_.divisor = loc("u_divisor");
-  march_.full_viewport = loc("u_full_viewport");
-  const char* phase[4] = {"u_phase.g_hg", "u_phase.g_draine", "u_phase.alpha_draine", "u_phase.w_draine"};
-  for (int i = 0; i < 4; ++i) march_.phase[i] = loc(phase[i]);
-  const char* oct[5] = {"u_octaves.count", "u_octaves.extinction_scale", "u_octaves.scattering_scale",
-                        "u_octaves.eccentricity_scale", "u_octaves.ambient_extinction"};
-  for (int i = 0; i < 5; ++i) march_.octaves[i] = loc(oct[i]);
+  march_.cloud = locate_cloud(march_.program);
+  march_.divisor = glGetUniformLocation(march_.program, "u_divisor");
+  march_.full_viewport = glGetUniformLocation(march_.program, "u_full_viewport");
+  bake_.cloud = locate_cloud(bake_.program);
+  bake_.board_centre = glGetUniformLocation(bake_.program, "u_board_centre");
+  bake_.board_right = glGetUniformLocation(bake_.program, "u_board_right");
+  bake_.board_up = glGetUniformLocation(bake_.program, "u_board_up");
+  bake_.radiance_scale = glGetUniformLocation(bake_.program, "u_radiance_scale");
+  bake_.tile_texels = glGetUniformLocation(bake_.program, "u_tile_texels");
+  board_.pass = locate_pass_uniforms(board_.program);
+  board_.boards = glGetUniformLocation(board_.program, "u_boards");
+  board_.clip_from_enu = glGetUniformLocation(board_.program, "u_clip_from_enu");
+  board_.ndc_scale = glGetUniformLocation(board_.program, "u_ndc_scale");
+  board_.colour = glGetUniformLocation(board_.program, "u_impostor_colour");
+  board_.depth = glGetUniformLocation(board_.program, "u_impostor_depth");
+  board_.divisor = glGetUniformLocation(board_.program, "u_divisor");
+  board_.full_viewport = glGetUniformLocation(board_.program, "u_full_viewport");
   composite_clouds_ = glGetUniformLocation(composite_, "u_clouds");
   composite_viewport_ = glGetUniformLocation(composite_, "u_viewport");
+  composite_encoding_ = glGetUniformLocation(composite_, "u_output_encoding");
   glGenVertexArrays(1, &vao_);
   glGenFramebuffers(1, &fbo_);
+  glGenFramebuffers(1, &bake_fbo_);
   GLuint nearest = 0;
   create_pass_samplers(&linear_sampler_, &nearest);
   glDeleteSamplers(1, &nearest);
@@ -72,14 +109,16 @@ bool CloudRenderer::init(std::string* error) {
 }
 
 void CloudRenderer::destroy() {
-  if (march_.program) glDeleteProgram(march_.program);
-  if (composite_) glDeleteProgram(composite_);
+  for (GLuint p : {march_.program, bake_.program, board_.program, composite_})
+    if (p) glDeleteProgram(p);
   if (vao_) glDeleteVertexArrays(1, &vao_);
-  if (fbo_) glDeleteFramebuffers(1, &fbo_);
-  if (target_) glDeleteTextures(1, &target_);
-  if (atlas_) glDeleteTextures(1, &atlas_);
-  if (linear_sampler_) glDeleteSamplers(1, &linear_sampler_);
-  if (border_sampler_) glDeleteSamplers(1, &border_sampler_);
+  for (GLuint f : {fbo_, bake_fbo_})
+    if (f) glDeleteFramebuffers(1, &f);
+  for (GLuint t : {target_, atlas_})
+    if (t) glDeleteTextures(1, &t);
+  for (GLuint s : {linear_sampler_, border_sampler_})
+    if (s) glDeleteSamplers(1, &s);
+  impostors_.destroy();
   forget();
 }
 
@@ -138,6 +177,8 @@ bool CloudRenderer::upload_atlas(const CloudFrameInputs& frame, std::string* err
     glTexSubImage3D(GL_TEXTURE_3D, 0, o.x, o.y, o.z, g.nx, g.ny, g.nz, GL_RGBA, GL_FLOAT, texels.data());
   }
   atlas_bytes_ = static_cast<size_t>(size_x) * size_y * size_z * 8;
+  phases_.clear();
+  for (const clouds::CloudVolume& v : protos) phases_.push_back(clouds::phase_for_droplet(v.optics.droplet_diameter_um));
   uploaded_version_ = frame.version;
   return check_gl("uploading the cloud atlas", error);
 }
@@ -154,119 +195,300 @@ bool CloudRenderer::ensure_target(int w, int h, std::string* error) {
   return check_gl("allocating the cloud image", error);
 }
 
+void CloudRenderer::set_cloud_uniforms(const InstanceUniforms& u, const CloudFrameInputs& frame) const {
+  glUniform1i(u.atlas, static_cast<GLint>(kCloudUnit));
+  glUniform3fv(u.atlas_size, 1, glm::value_ptr(atlas_size_));
+  glUniform3fv(u.light_illuminance, 1, glm::value_ptr(glm::vec3(frame.light.illuminance_lux)));
+  glUniform3fv(u.sky_radiance, 1, glm::value_ptr(glm::vec3(frame.light.sky_radiance)));
+  glUniform3fv(u.ground_radiance, 1, glm::value_ptr(glm::vec3(frame.light.ground_radiance)));
+  glUniform1f(u.step_voxels, frame.step_voxels);
+  glUniform1i(u.max_steps, 512);
+  glUniform1i(u.octaves[0], frame.octaves.count);
+  glUniform1f(u.octaves[1], frame.octaves.extinction_scale);
+  glUniform1f(u.octaves[2], frame.octaves.scattering_scale);
+  glUniform1f(u.octaves[3], frame.octaves.eccentricity_scale);
+  glUniform1f(u.octaves[4], frame.octaves.ambient_extinction);
+}
+
+void CloudRenderer::pack_instance(const CloudFrameInputs& frame, size_t index, float weight,
+                                  std::vector<glm::vec4>* out) const {
+  const clouds::CloudInstance& inst = frame.field->instances[index];
+  const size_t pi = static_cast<size_t>(inst.prototype);
+  const clouds::CloudVolume& v = frame.field->prototypes[pi];
+  const glm::dmat3& M = frame.eye_enu_from_clouds;
+  const glm::dmat3 axes = M * glm::mat3_cast(v.rotation);
+  const glm::vec3 origin(M * (inst.origin_enu_m - frame.eye_in_clouds_m));
+  const glm::vec3 centre(M * (v.centre_at(inst.origin_enu_m) - frame.eye_in_clouds_m));
+  const glm::vec3 light_grid = clouds::grid_direction(v, frame.light.direction_enu);
+  const glm::vec3 off = atlas_offsets_[pi];
+  const clouds::twin::CloudPhase& ph = phases_[pi];
+  out->push_back(glm::vec4(origin, v.voxel_size_m));
+  out->push_back(glm::vec4(glm::vec3(axes[0]), v.optics.extinction_per_m));
+  out->push_back(glm::vec4(glm::vec3(axes[1]), v.optics.albedo));
+  out->push_back(glm::vec4(glm::vec3(axes[2]), off.x));
+  out->push_back(glm::vec4(v.density.nx, v.density.ny, v.density.nz, off.y));
+  out->push_back(glm::vec4(light_grid, off.z));
+  out->push_back(glm::vec4(centre, static_cast<float>(v.bounding_radius_m())));
+  out->push_back(glm::vec4(ph.g_hg, ph.g_draine, ph.alpha_draine, ph.w_draine));
+  out->push_back(glm::vec4(weight, 0.0f, 0.0f, 0.0f));
+}
+
+bool CloudRenderer::bake(const CloudFrameInputs& frame, size_t index, std::string* error) {
+  Impostor& im = impostor_of_[index];
+  const clouds::CloudInstance& inst = frame.field->instances[index];
+  const clouds::CloudVolume& v = frame.field->prototypes[static_cast<size_t>(inst.prototype)];
+  const glm::dvec3 centre = v.centre_at(inst.origin_enu_m);
+  im.board = clouds::make_billboard(frame.eye_in_clouds_m, centre, v.bounding_radius_m());
+  im.baked_eye_m = frame.eye_in_clouds_m;
+  im.version = frame.version;
+  im.baked = true;
+  const int tile = impostors_.tile_texels();
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, bake_fbo_);
+  glFramebufferTextureLayer(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, impostors_.colour(im.slot), 0,
+                            ImpostorAtlas::layer(im.slot));
+  glFramebufferTextureLayer(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, impostors_.depth(im.slot), 0,
+                            ImpostorAtlas::layer(im.slot));
+  const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glDrawBuffers(2, buffers);
+  if (glCheckFramebufferStatus(GL_DRAW_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    if (error) *error = "the impostor framebuffer is incomplete";
+    return false;
+  }
+  glViewport(0, 0, tile, tile);
+  const glm::dmat3& M = frame.eye_enu_from_clouds;
+  std::vector<glm::vec4> packed;
+  pack_instance(frame, index, 1.0f, &packed);
+  glUniform4fv(bake_.cloud.instances, static_cast<GLsizei>(packed.size()), glm::value_ptr(packed[0]));
+  glUniform1i(bake_.cloud.instance_count, 1);
+  glUniform4fv(bake_.board_centre, 1,
+               glm::value_ptr(glm::vec4(glm::vec3(M * (centre - frame.eye_in_clouds_m)), im.board.half_size_m)));
+  glUniform3fv(bake_.board_right, 1, glm::value_ptr(glm::vec3(M * im.board.right)));
+  glUniform3fv(bake_.board_up, 1, glm::value_ptr(glm::vec3(M * im.board.up)));
+  glUniform1f(bake_.radiance_scale, static_cast<float>(1.0 / light_scale(frame.light)));
+  glUniform1f(bake_.tile_texels, static_cast<float>(tile));
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  return true;
+}
+
+void CloudRenderer::draw_boards(const PassInputs& in, const CloudFrameInputs& frame, const std::vector<Item>& far,
+                                int d) {
+  const glm::mat4 view_from_enu(glm::transpose(in.enu_from_view));
+  const glm::mat4 clip_from_enu = glm::inverse(in.view_from_clip) * view_from_enu;
+  glUniformMatrix4fv(board_.clip_from_enu, 1, GL_FALSE, glm::value_ptr(clip_from_enu));
+  const float used_w = static_cast<float>(in.viewport[2]) / d, used_h = static_cast<float>(in.viewport[3]) / d;
+  glUniform2f(board_.ndc_scale, used_w / target_w_, used_h / target_h_);
+  glUniform1i(board_.colour, static_cast<GLint>(kCloudUnit));
+  glUniform1i(board_.depth, static_cast<GLint>(kImpostorDepthUnit));
+  glBindSampler(kCloudUnit, linear_sampler_);
+  glBindSampler(kImpostorDepthUnit, linear_sampler_);
+  const glm::dmat3& M = frame.eye_enu_from_clouds;
+  const float factor = static_cast<float>(light_scale(frame.light));
+  std::vector<glm::vec4> packed;
+  // Far to near; a batch ends where the chunk (texture) changes.
+  size_t k = 0;
+  while (k < far.size()) {
+    const int chunk = ImpostorAtlas::chunk(impostor_of_[far[k].index].slot);
+    packed.clear();
+    int count = 0;
+    for (; k < far.size() && count < kMaxBoardsPerBatch; ++k) {
+      const Impostor& im = impostor_of_[far[k].index];
+      if (ImpostorAtlas::chunk(im.slot) != chunk) break;
+      packed.push_back(glm::vec4(glm::vec3(M * (im.board.centre_m - frame.eye_in_clouds_m)), im.board.half_size_m));
+      packed.push_back(glm::vec4(glm::vec3(M * im.board.right), ImpostorAtlas::layer(im.slot)));
+      packed.push_back(glm::vec4(glm::vec3(M * im.board.up), static_cast<float>(1.0 - far[k].direct_weight)));
+      packed.push_back(glm::vec4(factor, 0.0f, 0.0f, 0.0f));
+      ++count;
+    }
+    const int slot = impostor_of_[far[k - 1].index].slot;
+    glActiveTexture(GL_TEXTURE0 + kCloudUnit);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, impostors_.colour(slot));
+    glActiveTexture(GL_TEXTURE0 + kImpostorDepthUnit);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, impostors_.depth(slot));
+    glUniform4fv(board_.boards, static_cast<GLsizei>(packed.size()), glm::value_ptr(packed[0]));
+    glDrawArraysInstanced(GL_TRIANGLES, 0, 6, count);
+    stats_.impostors_drawn += count;
+  }
+}
+
+void CloudRenderer::march(const CloudFrameInputs& frame, const std::vector<Item>& near) {
+  glActiveTexture(GL_TEXTURE0 + kCloudUnit);
+  glBindTexture(GL_TEXTURE_3D, atlas_);
+  glBindSampler(kCloudUnit, border_sampler_);
+  set_cloud_uniforms(march_.cloud, frame);
+  std::vector<glm::vec4> packed;
+  // Far batch first, each over the nearer ones' background; near to far inside a batch.
+  const int batches = (static_cast<int>(near.size()) + kMaxInstancesPerBatch - 1) / kMaxInstancesPerBatch;
+  for (int b = batches - 1; b >= 0; --b) {
+    const size_t begin = static_cast<size_t>(b) * kMaxInstancesPerBatch;
+    const size_t end = std::min(near.size(), begin + kMaxInstancesPerBatch);
+    packed.clear();
+    for (size_t k = begin; k < end; ++k)
+      pack_instance(frame, near[k].index, static_cast<float>(near[k].direct_weight), &packed);
+    glUniform4fv(march_.cloud.instances, static_cast<GLsizei>(packed.size()), glm::value_ptr(packed[0]));
+    glUniform1i(march_.cloud.instance_count, static_cast<GLint>(end - begin));
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+  }
+  stats_.marched = static_cast<int>(near.size());
+}
+
 bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFrameInputs& frame, bool* drawn,
                          std::string* error) {
   *drawn = false;
-  last_drawn_ = 0;
+  stats_ = CloudDrawStats{};
   if (!frame.field || frame.field->instances.empty()) return true;
   if (!init(error)) return false;
   while (glGetError() != GL_NO_ERROR) {}
   GlStateGuard guard(kUnitsUsed);
   guard.use_single_draw_buffer();
+  const std::vector<clouds::CloudInstance>& instances = frame.field->instances;
+  if (frame.field_version != impostor_field_version_ || impostor_of_.size() != instances.size() ||
+      impostors_.tile_texels() != frame.impostors.tile_texels) {
+    impostors_.reset(frame.impostors.tile_texels);
+    impostor_of_.assign(instances.size(), Impostor{});
+    impostor_field_version_ = frame.field_version;
+  }
   if (uploaded_version_ != frame.version || !atlas_) {
     if (!upload_atlas(frame, error)) return false;
   }
-  // The instances in view, in the eye's ENU axes, nearest first.
-  const glm::dmat3 M = frame.eye_enu_from_clouds;
-  const glm::dvec3 forward = glm::dmat3(in.enu_from_view) * glm::dvec3(0.0, 0.0, -1.0);
-  struct Item {
-    double distance;
-    size_t index;
-    glm::dvec3 centre;  // eye-relative, the eye's ENU axes
-  };
-  std::vector<Item> items;
-  const std::vector<clouds::CloudVolume>& protos = frame.field->prototypes;
-  for (size_t i = 0; i < frame.field->instances.size(); ++i) {
-    const clouds::CloudInstance& inst = frame.field->instances[i];
-    const clouds::CloudVolume& v = protos[static_cast<size_t>(inst.prototype)];
-    const glm::dvec3 centre = M * (v.centre_at(inst.origin_enu_m) - frame.eye_in_clouds_m);
-    const double r = v.bounding_radius_m();
-    if (glm::dot(centre, forward) < -r) continue;  // wholly behind the camera
-    items.push_back({glm::length(centre), i, centre});
-  }
-  if (items.empty()) return true;
-  std::sort(items.begin(), items.end(), [](const Item& a, const Item& b) { return a.distance < b.distance; });
-
   const int vw = in.viewport[2], vh = in.viewport[3];
   const int d = std::max(1, frame.divisor);
   const int w = (vw + d - 1) / d, h = (vh + d - 1) / d;
-  if (!ensure_target(w, h, error)) return false;
 
-  // March, far batch first, each over the nearer ones' background.
+  // The view frustum's side planes and pixel density, in view space.
+  const glm::dmat4 view_from_clip(in.view_from_clip);
+  auto view_dir = [&](double x, double y) {
+    const glm::dvec4 p = view_from_clip * glm::dvec4(x, y, 0.5, 1.0);
+    return glm::normalize(glm::dvec3(p) / p.w);
+  };
+  const glm::dvec3 axis = view_dir(0.0, 0.0);
+  const glm::dvec3 corner[4] = {view_dir(-1, -1), view_dir(1, -1), view_dir(1, 1), view_dir(-1, 1)};
+  glm::dvec3 planes[4];
+  for (int i = 0; i < 4; ++i) {
+    planes[i] = glm::normalize(glm::cross(corner[i], corner[(i + 1) % 4]));
+    if (glm::dot(planes[i], axis) > 0.0) planes[i] = -planes[i];  // outward
+  }
+  const double half_fov = std::acos(std::clamp(glm::dot(axis, view_dir(0.0, 1.0)), -1.0, 1.0));
+  const double pixels_per_radian = 0.5 * static_cast<double>(vh) / d / std::max(1e-6, std::tan(half_fov));
+  const glm::dmat3 view_from_enu = glm::transpose(glm::dmat3(in.enu_from_view));
+  const glm::dmat3 view_from_clouds = view_from_enu * frame.eye_enu_from_clouds;
+
+  // Which clouds are in view, and how each is drawn.
+  std::vector<Item> far, near;
+  for (size_t i = 0; i < instances.size(); ++i) {
+    const clouds::CloudVolume& v = frame.field->prototypes[static_cast<size_t>(instances[i].prototype)];
+    const glm::dvec3 rel = v.centre_at(instances[i].origin_enu_m) - frame.eye_in_clouds_m;
+    const double r = v.bounding_radius_m();
+    const glm::dvec3 c = view_from_clouds * rel;
+    bool outside = false;
+    for (const glm::dvec3& p : planes) outside = outside || glm::dot(p, c) > r;
+    if (outside) continue;
+    ++stats_.in_view;
+    const double distance = glm::length(rel);
+    const double weight =
+        frame.direct_only ? 1.0
+                          : clouds::direct_march_weight(
+                                clouds::direct_march_need(distance, r, pixels_per_radian, frame.impostors),
+                                frame.impostors);
+    if (weight > 0.0) near.push_back({distance, i, weight});
+    if (weight < 1.0) far.push_back({distance, i, weight});
+  }
+  if (near.empty() && far.empty()) return true;
+
+  // Impostors: new ones now, stale ones within the budget (largest change first).
+  std::vector<size_t> to_bake;
+  std::vector<size_t> stale_items;
+  std::vector<double> staleness;
+  for (size_t k = 0; k < far.size(); ++k) {
+    Impostor& im = impostor_of_[far[k].index];
+    if (im.slot < 0) {
+      std::string alloc_error;
+      im.slot = impostors_.allocate(&alloc_error);
+      if (im.slot < 0) {  // over the cap: the direct march draws it
+        if (!alloc_error.empty() && error) *error = alloc_error;
+        near.push_back({far[k].distance_m, far[k].index, 1.0});
+        far.erase(far.begin() + static_cast<std::ptrdiff_t>(k--));
+        continue;
+      }
+    }
+    if (!im.baked) {
+      to_bake.push_back(far[k].index);
+      ++stats_.impostors_created;
+      continue;
+    }
+    const clouds::CloudVolume& v = frame.field->prototypes[static_cast<size_t>(instances[far[k].index].prototype)];
+    const double change = clouds::impostor_view_change_rad(im.baked_eye_m, frame.eye_in_clouds_m, im.board.centre_m,
+                                                           v.bounding_radius_m()) /
+                          frame.impostors.angle_threshold_rad;
+    const double s = im.version != frame.version ? 1.0 + change : change;
+    if (s >= 1.0) {
+      stale_items.push_back(far[k].index);
+      staleness.push_back(s);
+    }
+  }
+  const std::vector<size_t> chosen = clouds::choose_impostor_updates(staleness, frame.impostors);
+  for (size_t c : chosen) to_bake.push_back(stale_items[c]);
+  stats_.impostors_updated = static_cast<int>(chosen.size());
+  stats_.impostors_stale = static_cast<int>(staleness.size() - chosen.size());
+  std::sort(far.begin(), far.end(), [](const Item& a, const Item& b) { return a.distance_m > b.distance_m; });
+  std::sort(near.begin(), near.end(), [](const Item& a, const Item& b) { return a.distance_m < b.distance_m; });
+
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glBindVertexArray(vao_);
+  if (!to_bake.empty()) {
+    glActiveTexture(GL_TEXTURE0 + kCloudUnit);
+    glBindTexture(GL_TEXTURE_3D, atlas_);
+    glBindSampler(kCloudUnit, border_sampler_);
+    glUseProgram(bake_.program);
+    set_cloud_uniforms(bake_.cloud, frame);
+    for (size_t index : to_bake)
+      if (!bake(frame, index, error)) return false;
+  }
+
+  // The image: impostors far to near, then the direct march over them.
+  if (!ensure_target(w, h, error)) return false;
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
   glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, target_, 0);
   const GLenum buffers[1] = {GL_COLOR_ATTACHMENT0};
   glDrawBuffers(1, buffers);
   glViewport(0, 0, w, h);
-  glDisable(GL_SCISSOR_TEST);
-  glDisable(GL_DEPTH_TEST);
-  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   const float clear[4] = {0, 0, 0, 0};
   glClearBufferfv(GL_COLOR, 0, clear);
-  glUseProgram(march_.program);
-  if (!renderer.prepare_pass_tables(march_.pass, in, error)) return false;
-  glUseProgram(march_.program);  // the volume build may have used another program
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
-  glViewport(0, 0, w, h);
-  glUniform4f(march_.pass.viewport, 0.0f, 0.0f, static_cast<float>(vw) / d, static_cast<float>(vh) / d);
-  glUniform4f(march_.full_viewport, static_cast<float>(in.viewport[0]), static_cast<float>(in.viewport[1]),
-              static_cast<float>(vw), static_cast<float>(vh));
-  glUniform1i(march_.divisor, d);
-  glUniform1i(march_.atlas, static_cast<GLint>(kCloudUnit));
-  glUniform3fv(march_.atlas_size, 1, glm::value_ptr(atlas_size_));
-  glUniform3fv(march_.light_illuminance, 1, glm::value_ptr(glm::vec3(frame.light.illuminance_lux)));
-  glUniform3fv(march_.sky_radiance, 1, glm::value_ptr(glm::vec3(frame.light.sky_radiance)));
-  glUniform3fv(march_.ground_radiance, 1, glm::value_ptr(glm::vec3(frame.light.ground_radiance)));
-  glUniform1f(march_.step_voxels, frame.step_voxels);
-  glUniform1i(march_.max_steps, 512);
-  glUniform1f(march_.phase[0], frame.phase.g_hg);
-  glUniform1f(march_.phase[1], frame.phase.g_draine);
-  glUniform1f(march_.phase[2], frame.phase.alpha_draine);
-  glUniform1f(march_.phase[3], frame.phase.w_draine);
-  glUniform1i(march_.octaves[0], frame.octaves.count);
-  glUniform1f(march_.octaves[1], frame.octaves.extinction_scale);
-  glUniform1f(march_.octaves[2], frame.octaves.scattering_scale);
-  glUniform1f(march_.octaves[3], frame.octaves.eccentricity_scale);
-  glUniform1f(march_.octaves[4], frame.octaves.ambient_extinction);
-  glActiveTexture(GL_TEXTURE0 + kCloudUnit);
-  glBindTexture(GL_TEXTURE_3D, atlas_);
-  glBindSampler(kCloudUnit, border_sampler_);
   glEnablei(GL_BLEND, 0);
   set_blend_of_buffer0(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_FUNC_ADD, GL_FUNC_ADD);
-  glBindVertexArray(vao_);
-  std::vector<glm::vec4> packed;
-  const int batches = (static_cast<int>(items.size()) + kMaxInstancesPerBatch - 1) / kMaxInstancesPerBatch;
-  for (int b = batches - 1; b >= 0; --b) {
-    const size_t begin = static_cast<size_t>(b) * kMaxInstancesPerBatch;
-    const size_t end = std::min(items.size(), begin + kMaxInstancesPerBatch);
-    packed.clear();
-    for (size_t k = begin; k < end; ++k) {
-      const clouds::CloudInstance& inst = frame.field->instances[items[k].index];
-      const size_t pi = static_cast<size_t>(inst.prototype);
-      const clouds::CloudVolume& v = protos[pi];
-      const glm::dmat3 axes = M * glm::mat3_cast(v.rotation);
-      const glm::vec3 origin(M * (inst.origin_enu_m - frame.eye_in_clouds_m));
-      const glm::vec3 light_grid = clouds::grid_direction(v, frame.light.direction_enu);
-      const glm::vec3 off = atlas_offsets_[pi];
-      packed.push_back(glm::vec4(origin, v.voxel_size_m));
-      packed.push_back(glm::vec4(glm::vec3(axes[0]), v.optics.extinction_per_m));
-      packed.push_back(glm::vec4(glm::vec3(axes[1]), v.optics.albedo));
-      packed.push_back(glm::vec4(glm::vec3(axes[2]), off.x));
-      packed.push_back(glm::vec4(v.density.nx, v.density.ny, v.density.nz, off.y));
-      packed.push_back(glm::vec4(light_grid, off.z));
-      packed.push_back(glm::vec4(glm::vec3(items[k].centre), static_cast<float>(v.bounding_radius_m())));
-    }
-    glUniform4fv(march_.instances, static_cast<GLsizei>(packed.size()), glm::value_ptr(packed[0]));
-    glUniform1i(march_.instance_count, static_cast<GLint>(end - begin));
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+  // Each program takes pass_common's uniforms from the renderer (which may
+  // build the aerial volume with its own program and framebuffer first).
+  auto use_pass_program = [&](GLuint program, const PassUniforms& pass, GLint divisor, GLint full_viewport) {
+    glUseProgram(program);
+    if (!renderer.prepare_pass_tables(pass, in, error)) return false;
+    glUseProgram(program);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
+    glViewport(0, 0, w, h);
+    glBindVertexArray(vao_);
+    glUniform4f(pass.viewport, 0.0f, 0.0f, static_cast<float>(vw) / d, static_cast<float>(vh) / d);
+    glUniform4f(full_viewport, static_cast<float>(in.viewport[0]), static_cast<float>(in.viewport[1]),
+                static_cast<float>(vw), static_cast<float>(vh));
+    glUniform1i(divisor, d);
+    return true;
+  };
+  if (!far.empty()) {
+    if (!use_pass_program(board_.program, board_.pass, board_.divisor, board_.full_viewport)) return false;
+    draw_boards(in, frame, far, d);
   }
-  last_drawn_ = static_cast<int>(items.size());
+  if (!near.empty()) {
+    if (!use_pass_program(march_.program, march_.pass, march_.divisor, march_.full_viewport)) return false;
+    march(frame, near);
+  }
 
   // Composite over the host's frame.
   guard.restore_draw_framebuffer();
   glViewport(in.viewport[0], in.viewport[1], vw, vh);
   glUseProgram(composite_);
   glUniform1i(composite_clouds_, static_cast<GLint>(kCloudUnit));
+  glUniform1i(composite_encoding_, in.output_encoding);
   // The low-res image covers w * d >= vw pixels: scale uv to the part that maps the viewport.
   glUniform4f(composite_viewport_, static_cast<float>(in.viewport[0]), static_cast<float>(in.viewport[1]),
               static_cast<float>(w * d), static_cast<float>(h * d));

@@ -1,8 +1,12 @@
 // cloud_renderer.h — the clouds' GL objects and draw: every prototype's
-// density and light grids in one 3D atlas (RGBA16F), the march at reduced
-// resolution into an offscreen image, and its composite over the host's
-// frame. No physics here: the march is shaders/clouds/cloud_march.glsl, its
-// inputs come from abi/cloud_inputs on the CPU.
+// density and light grids in one 3D atlas (RGBA16F); far clouds drawn from
+// impostors (Harris & Lastra 2001: billboards rendered from the volume, kept
+// while the view of them changes less than a threshold, re-rendered within a
+// per-frame budget); near clouds and the one the eye is in by the direct
+// march, cross-faded with their impostors over a band; both at reduced
+// resolution into one offscreen image, composited over the host's frame.
+// No physics here: the march is shaders/clouds/cloud_march.glsl, the choices
+// core/clouds/impostor_policy, the inputs abi/cloud_inputs.
 #pragma once
 
 #include <glad/gl.h>
@@ -13,6 +17,8 @@
 #include "core/clouds/cloud_field.h"
 #include "core/clouds/cloud_lighting.h"
 #include "core/clouds/cloud_twin.h"
+#include "core/clouds/impostor_policy.h"
+#include "gl/impostor_atlas.h"
 #include "gl/pass_uniforms.h"
 
 namespace atmo::gl {
@@ -24,14 +30,26 @@ class Renderer;
 struct CloudFrameInputs {
   const clouds::CloudField* field = nullptr;
   const std::vector<clouds::LightDepths>* depths = nullptr;
-  uint64_t version = 0;               // re-upload when it changes
+  uint64_t version = 0;               // the field or its light changed: re-upload, impostors stale
+  uint64_t field_version = 0;         // the field changed: impostors start over
   glm::dvec3 eye_in_clouds_m{0.0};    // the eye in the clouds' frame
   glm::dmat3 eye_enu_from_clouds{1.0};
   clouds::CloudLight light;           // in the clouds' frame
-  clouds::twin::CloudPhase phase{};
   clouds::twin::CloudOctaves octaves{};
   int divisor = 2;
   float step_voxels = 1.0f;
+  bool direct_only = false;           // the reference: every cloud by the direct march
+  clouds::ImpostorSettings impostors;
+};
+
+// What the last draw did, for tests, benchmarks and logs.
+struct CloudDrawStats {
+  int in_view = 0;           // clouds in the view frustum
+  int impostors_drawn = 0;   // drawn from an impostor (weight > 0)
+  int marched = 0;           // drawn by the direct march (weight > 0)
+  int impostors_created = 0; // rendered for the first time
+  int impostors_updated = 0; // re-rendered (stale, within the budget)
+  int impostors_stale = 0;   // past a threshold and left for later frames
 };
 
 class CloudRenderer {
@@ -44,33 +62,69 @@ class CloudRenderer {
   // Draws the clouds over the bound framebuffer. *drawn = false when no cloud was in view.
   bool draw(Renderer& renderer, const PassInputs& in, const CloudFrameInputs& frame, bool* drawn, std::string* error);
 
-  // For benchmarks and logs.
   size_t atlas_bytes() const { return atlas_bytes_; }
-  int last_instances_drawn() const { return last_drawn_; }
+  size_t impostor_bytes() const { return impostors_.bytes(); }
+  const CloudDrawStats& last_stats() const { return stats_; }
 
  private:
+  // The uniforms of cloud_instance.glsl, in each program that includes it.
+  struct InstanceUniforms {
+    GLint atlas = -1, atlas_size = -1, instances = -1, instance_count = -1, light_illuminance = -1,
+          sky_radiance = -1, ground_radiance = -1, step_voxels = -1, max_steps = -1;
+    GLint octaves[5] = {-1, -1, -1, -1, -1};
+  };
   struct MarchProgram {
     GLuint program = 0;
     PassUniforms pass;
-    GLint atlas = -1, atlas_size = -1, instances = -1, instance_count = -1, light_illuminance = -1,
-          sky_radiance = -1, ground_radiance = -1, step_voxels = -1, max_steps = -1, divisor = -1,
-          full_viewport = -1;
-    GLint phase[4] = {-1, -1, -1, -1};
-    GLint octaves[5] = {-1, -1, -1, -1, -1};
+    InstanceUniforms cloud;
+    GLint divisor = -1, full_viewport = -1;
   };
+  struct BakeProgram {
+    GLuint program = 0;
+    InstanceUniforms cloud;
+    GLint board_centre = -1, board_right = -1, board_up = -1, radiance_scale = -1, tile_texels = -1;
+  };
+  struct BoardProgram {
+    GLuint program = 0;
+    PassUniforms pass;
+    GLint boards = -1, clip_from_enu = -1, ndc_scale = -1, colour = -1, depth = -1, divisor = -1,
+          full_viewport = -1;
+  };
+  // Per instance of the field: its impostor.
+  struct Impostor {
+    int slot = -1;
+    bool baked = false;
+    uint64_t version = 0;              // CloudFrameInputs::version it was rendered with
+    glm::dvec3 baked_eye_m{0.0};       // clouds' frame
+    clouds::Billboard board;           // clouds' frame
+  };
+  struct Item;
+
   bool upload_atlas(const CloudFrameInputs& frame, std::string* error);
   bool ensure_target(int width, int height, std::string* error);
+  void set_cloud_uniforms(const InstanceUniforms& u, const CloudFrameInputs& frame) const;
+  // Appends instance `index`'s kVec4PerInstance vec4s (cloud_instance.glsl).
+  void pack_instance(const CloudFrameInputs& frame, size_t index, float weight, std::vector<glm::vec4>* out) const;
+  bool bake(const CloudFrameInputs& frame, size_t index, std::string* error);
+  void draw_boards(const PassInputs& in, const CloudFrameInputs& frame, const std::vector<Item>& far, int d);
+  void march(const CloudFrameInputs& frame, const std::vector<Item>& near);
 
   MarchProgram march_;
+  BakeProgram bake_;
+  BoardProgram board_;
   GLuint composite_ = 0;
-  GLint composite_clouds_ = -1, composite_viewport_ = -1;
-  GLuint vao_ = 0, fbo_ = 0, target_ = 0, atlas_ = 0, linear_sampler_ = 0, border_sampler_ = 0;
+  GLint composite_clouds_ = -1, composite_viewport_ = -1, composite_encoding_ = -1;
+  GLuint vao_ = 0, fbo_ = 0, bake_fbo_ = 0, target_ = 0, atlas_ = 0, linear_sampler_ = 0, border_sampler_ = 0;
   int target_w_ = 0, target_h_ = 0;
   glm::vec3 atlas_size_{1.0f};
   std::vector<glm::vec3> atlas_offsets_;  // per prototype, voxels
+  std::vector<clouds::twin::CloudPhase> phases_;  // per prototype
   uint64_t uploaded_version_ = 0;
   size_t atlas_bytes_ = 0;
-  int last_drawn_ = 0;
+  ImpostorAtlas impostors_;
+  std::vector<Impostor> impostor_of_;     // per instance
+  uint64_t impostor_field_version_ = 0;
+  CloudDrawStats stats_;
 };
 
 }  // namespace atmo::gl

@@ -40,6 +40,7 @@ GlStateGuard::GlStateGuard(int units) : units_(units < kMaxUnits ? units : kMaxU
     glActiveTexture(GL_TEXTURE0 + u);
     textures_[u] = get_int(GL_TEXTURE_BINDING_2D);
     textures_3d_[u] = get_int(GL_TEXTURE_BINDING_3D);
+    textures_2d_array_[u] = get_int(GL_TEXTURE_BINDING_2D_ARRAY);
     samplers_[u] = get_int(GL_SAMPLER_BINDING);
   }
   glActiveTexture(static_cast<GLenum>(active_texture_));
@@ -118,6 +119,7 @@ GlStateGuard::~GlStateGuard() {
     glActiveTexture(GL_TEXTURE0 + u);
     glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(textures_[u]));
     glBindTexture(GL_TEXTURE_3D, static_cast<GLuint>(textures_3d_[u]));
+    glBindTexture(GL_TEXTURE_2D_ARRAY, static_cast<GLuint>(textures_2d_array_[u]));
     glBindSampler(static_cast<GLuint>(u), static_cast<GLuint>(samplers_[u]));
   }
   glActiveTexture(static_cast<GLenum>(active_texture_));

@@ -22,11 +22,11 @@ class GlStateGuard {
   GlStateGuard& operator=(const GlStateGuard&) = delete;
 
  private:
-  static constexpr int kMaxUnits = 8;
+  static constexpr int kMaxUnits = 12;
   static constexpr int kMaxDrawBuffers = 8;
   int units_;
   GLint program_, vao_, array_buffer_, unpack_buffer_, active_texture_;
-  GLint textures_[kMaxUnits], textures_3d_[kMaxUnits], samplers_[kMaxUnits];
+  GLint textures_[kMaxUnits], textures_3d_[kMaxUnits], textures_2d_array_[kMaxUnits], samplers_[kMaxUnits];
   GLint unpack_alignment_, unpack_row_length_;
   GLint viewport_[4];
   GLboolean depth_test_, blend0_, blend1_, cull_, stencil_, scissor_, rasterizer_discard_;

@@ -16,7 +16,9 @@ TEST(StructLayout, Version1SizesAreFrozen) {
   EXPECT_EQ(V1Size<AtmoPluginApi>::value, 144u);
   EXPECT_EQ(sizeof(AtmoPluginApi), 152u);
   EXPECT_EQ(sizeof(AtmoCloudLayer), V1Size<AtmoCloudLayer>::value);
-  EXPECT_EQ(sizeof(AtmoCloudsState), V1Size<AtmoCloudsState>::value);
+  // AtmoCloudsState grew at its end (impostor settings); 80-byte hosts get the defaults.
+  EXPECT_EQ(V1Size<AtmoCloudsState>::value, 80u);
+  EXPECT_EQ(sizeof(AtmoCloudsState), 120u);
   EXPECT_EQ(sizeof(AtmoHostServices), V1Size<AtmoHostServices>::value);
   EXPECT_EQ(sizeof(AtmoContextCreateInfo), V1Size<AtmoContextCreateInfo>::value);
   EXPECT_EQ(sizeof(AtmoViewCreateInfo), V1Size<AtmoViewCreateInfo>::value);
@@ -35,6 +37,8 @@ TEST(StructLayout, Version1OffsetsAreFrozen) {
   EXPECT_EQ(offsetof(AtmoPluginApi, result_string), 32u);
   EXPECT_EQ(offsetof(AtmoPluginApi, get_lighting), 136u);
   EXPECT_EQ(offsetof(AtmoPluginApi, set_clouds), 144u);
+  EXPECT_EQ(offsetof(AtmoCloudsState, light_update_threshold_deg), 72u);
+  EXPECT_EQ(offsetof(AtmoCloudsState, draw_mode), 80u);
   EXPECT_EQ(offsetof(AtmoHostServices, gl_get_proc_address), 72u);
   EXPECT_EQ(offsetof(AtmoFrameState, utc_posix_s), 24u);
   EXPECT_EQ(offsetof(AtmoViewState, eye_ecef_m), 24u);

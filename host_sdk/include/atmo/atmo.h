@@ -423,7 +423,28 @@ typedef struct AtmoCloudsState {
   uint32_t multiple_scattering_octaves; /* 1 = single scattering, [1, 8]; default 6 */
   uint32_t reserved;                 /* 0 */
   double light_update_threshold_deg; /* the light's direction may move this far before the clouds are relit; default 0.5 */
+  /* Impostors (Harris & Lastra 2001; docs/CLOUDS.md). These fields grew the
+     struct after its first 80-byte layout: a host with that layout gets the
+     defaults. 0 takes the default. */
+  uint32_t draw_mode;                /* AtmoCloudDrawMode; default ATMO_CLOUD_DRAW_IMPOSTORS */
+  uint32_t impostor_texels;          /* an impostor's side in the atlas, [16, 512]; default 128 */
+  double impostor_angle_threshold_deg; /* re-render an impostor when the view of it changed this much, [0.05, 10];
+                                        default 0.5 */
+  uint32_t impostor_updates_per_frame; /* re-renders of existing impostors per pass, [1, 4096]; default 8 (a cloud
+                                          entering the view always gets its impostor at once) */
+  uint32_t reserved2;                /* 0 */
+  double direct_march_radii;         /* the direct march takes over within this many bounding radii of a cloud,
+                                        [1, 100]; default 2 */
+  double impostor_max_pixels_per_texel; /* ... or where an impostor texel would cover more pixels of the march's
+                                           image than this, [0.25, 8]; default 1 */
 } AtmoCloudsState;
+
+/* How ATMO_PASS_CLOUDS draws. */
+typedef enum AtmoCloudDrawMode {
+  ATMO_CLOUD_DRAW_IMPOSTORS = 0, /* impostors, the direct march near and inside clouds, cross-faded */
+  ATMO_CLOUD_DRAW_DIRECT = 1,    /* the direct march for every cloud (the reference; slow) */
+  ATMO_CLOUD_DRAW_MODE_COUNT = 2
+} AtmoCloudDrawMode;
 
 /* ------------------------------------------------------------------------ */
 /* Lighting for the host's own shading                                       */
@@ -548,7 +569,10 @@ typedef struct AtmoPluginApi {
      last_error and a log line, the others are kept, and the result is
      ATMO_ERROR_IO (file) or the validation error; invalid fields in any layer
      (bad enum, NaN, out of range) reject the whole call, clouds unchanged.
-     [ctx-sync][no-gl] */
+     The clouds are lit on the first cloud pass; when the light later moves
+     past light_update_threshold_deg they are relit on a worker thread the
+     plugin owns (it never calls the host), and passes keep drawing with the
+     old light until it ends. [ctx-sync][no-gl] */
   AtmoResult (*set_clouds)(AtmoContext context, const AtmoCloudsState* state);
 } AtmoPluginApi;
 
