@@ -161,4 +161,66 @@ TEST(CloudsPass, FiniteWhereTheMarchIsFragile) {
   }
 }
 
+// Seen from above, an overcast deck hides the ground (issue: <= 1 %): the host's frame shows
+// through by the clouds' transmittance, measured by drawing the clouds over
+// two host colours (premultiplied blending: out = clouds + T * host).
+TEST(CloudsPass, AnOvercastDeckHidesTheGroundFromAbove) {
+  Fixture f;
+  AtmoCloudLayer deck = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
+  deck.type = ATMO_CLOUD_OVERCAST;
+  deck.base_m = 600.0;
+  deck.top_m = 1100.0;
+  deck.area_size_m = 8000.0;
+  deck.seed = 2;
+  const AtmoCloudsState s = clouds_at_innsbruck(&deck, 1);
+  ASSERT_EQ(raw_set_clouds(f, s), ATMO_SUCCESS);
+  auto draw_over = [&](float host_red) {
+    auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+    frame.utc_posix_s = 1.72e9;
+    f.context->set_frame(frame);
+    const glm::dmat4 proj = glm::perspective(glm::radians(40.0), double(kWidth) / kHeight, 1.0, 1e5);
+    f.view->set(innsbruck_view(2500.0, 30.0, -70.0, proj));
+    f.target->bind();
+    glClearColor(host_red, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    EXPECT_EQ(f.view->render(ATMO_PASS_CLOUDS), ATMO_SUCCESS);
+    glFinish();
+    return f.target->read_color();
+  };
+  const float red = 1.0e4f;
+  const atmo::support::Image black = draw_over(0.0f), lit = draw_over(red);
+  double worst = 0.0, mean = 0.0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const double t = (lit.pixel(x, y)[0] - black.pixel(x, y)[0]) / red;
+      worst = std::max(worst, t);
+      mean += t / (kWidth * kHeight);
+    }
+  std::printf("ground seen through the deck from 2500 m: transmittance mean %.2e, worst pixel %.2e\n", mean, worst);
+  EXPECT_LE(worst, 0.01);
+  EXPECT_EQ(count_bad(black), 0u);
+}
+
+// The Sun crossing the horizon under a cumulus layer: every frame finite and
+// the clouds never brighter at a lower Sun (the light fades through sunset).
+TEST(CloudsPass, SunCrossingTheHorizon) {
+  Fixture f;
+  const AtmoCloudLayer layer = cumulus(1200.0, 2200.0);
+  ASSERT_EQ(raw_set_clouds(f, clouds_at_innsbruck(&layer, 1)), ATMO_SUCCESS);
+  // 2024-06-14 19:00-20:20 UTC at Innsbruck: the Sun sets about 19:15 UTC.
+  double previous = 1e30;
+  for (double minutes = 0.0; minutes <= 80.0; minutes += 10.0) {
+    atmo::support::Image img;
+    const double utc = 1718391600.0 + minutes * 60.0;
+    const AtmoResult r = draw_clouds(f, 500.0, 20.0, &img, utc);
+    EXPECT_GE(r, 0);
+    EXPECT_EQ(count_bad(img), 0u) << minutes;
+    const double m = mean_luminance(img);
+    std::printf("19:00 UTC + %2.0f min: mean %.4g cd/m^2\n", minutes, m);
+    EXPECT_GE(m, 0.0);
+    EXPECT_LE(m, previous * 1.05 + 1e-6) << "brighter after " << minutes << " min";
+    previous = m;
+  }
+}
+
 }  // namespace

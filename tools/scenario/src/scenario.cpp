@@ -488,7 +488,8 @@ double cloud_layer_area_m(const Scenario& scenario, const CloudLayer& layer) {
 std::string resolve_path(const Scenario& scenario, const std::string& relative) {
   const std::filesystem::path p(relative);
   if (p.is_absolute() || scenario.source_dir.empty()) return relative;
-  return (std::filesystem::path(scenario.source_dir) / p).lexically_normal().string();
+  // Absolute: the plugin resolves relative paths against its asset root, not the working directory.
+  return std::filesystem::absolute(std::filesystem::path(scenario.source_dir) / p).lexically_normal().string();
 }
 
 const char* to_string(TerrainKind k) {
