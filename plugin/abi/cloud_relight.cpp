@@ -2,17 +2,32 @@
 
 #include <chrono>
 
+#include "core/clouds/field_light.h"
+
 namespace atmo::abi {
+
+namespace {
+constexpr int kSlab = 8;  // z-slices between checks of the cancel flag (set_clouds, destroy)
+}  // namespace
 
 void relight_all(const clouds::CloudField& field, const glm::dvec3& dir, std::vector<clouds::LightDepths>* depths,
                  const std::atomic<bool>* cancel) {
   for (size_t p = 0; p < field.prototypes.size(); ++p) {
     const clouds::CloudVolume& v = field.prototypes[p];
-    // A slab of slices at a time, so a cancel (set_clouds, destroy) is heard soon.
-    constexpr int kSlab = 8;
     for (int z = 0; z < v.density.nz; z += kSlab) {
       if (cancel && cancel->load(std::memory_order_relaxed)) return;
       clouds::compute_light_depth_slices(v, dir, z, std::min(v.density.nz, z + kSlab), &(*depths)[p]);
+    }
+  }
+  // Then what the light crosses in the neighbouring grids (deck tiles), once every grid holds its own.
+  for (size_t p = 0; p < field.prototypes.size(); ++p) {
+    if (cancel && cancel->load(std::memory_order_relaxed)) return;
+    const clouds::FieldLightPlan plan = clouds::plan_field_light(field, static_cast<int>(p), dir);
+    if (plan.prototype < 0) continue;
+    const int nz = field.prototypes[p].density.nz;
+    for (int z = 0; z < nz; z += kSlab) {
+      if (cancel && cancel->load(std::memory_order_relaxed)) return;
+      clouds::add_field_light_slices(field, plan, z, std::min(nz, z + kSlab), &(*depths)[p]);
     }
   }
 }

@@ -67,7 +67,9 @@ struct CloudRelightSlot {
   void reset() { job.reset(); }
 };
 
-// The whole relight on the calling thread (the first lighting, and the job's body).
+// The whole relight on the calling thread (the first lighting, and the job's
+// body): each grid's own optical depth to the light, then what the light
+// crosses in the other grids (core/clouds/field_light.h: deck tiles).
 // Stops early, leaving the grids partly updated, when *cancel becomes true.
 void relight_all(const clouds::CloudField& field, const glm::dvec3& light_direction_enu,
                  std::vector<clouds::LightDepths>* depths, const std::atomic<bool>* cancel = nullptr);

@@ -2,7 +2,8 @@
 // the first lighting is immediate; later, when the light moves past the
 // threshold, the call that notices starts a worker and returns at once with
 // the old grids untouched; the first call after the worker ends swaps in
-// grids equal (bit for bit) to a direct computation for the new light. A
+// grids equal (bit for bit) to a direct computation for the new light (each
+// grid's own depths plus core/clouds/field_light's neighbours). A
 // move under the threshold does nothing; replacing or destroying the clouds
 // while a job runs cancels and joins it (ASan/UBSan builds run this too).
 #include <gtest/gtest.h>
@@ -10,6 +11,7 @@
 #include <cmath>
 
 #include "abi/cloud_inputs.h"
+#include "core/clouds/field_light.h"
 #include "core/clouds/procedural_clouds.h"
 
 namespace {
@@ -39,8 +41,11 @@ glm::dvec3 sun(double elevation_deg, double azimuth_deg) {
 
 // The grids equal a fresh computation for `dir`, every voxel's three depths.
 void expect_lit_for(const atmo::abi::ContextClouds& c, const glm::dvec3& dir) {
+  std::vector<clouds::LightDepths> all;
+  for (const clouds::CloudVolume& v : c.field.prototypes) all.push_back(clouds::compute_light_depths(v, dir));
+  clouds::add_field_light_depths(c.field, dir, &all);
   for (size_t p = 0; p < c.field.prototypes.size(); ++p) {
-    const clouds::LightDepths fresh = clouds::compute_light_depths(c.field.prototypes[p], dir);
+    const clouds::LightDepths& fresh = all[p];
     ASSERT_EQ(fresh.tau.size(), c.depths[p].tau.size());
     for (size_t i = 0; i < fresh.tau.size(); ++i) ASSERT_EQ(fresh.tau[i], c.depths[p].tau[i]) << "prototype " << p;
   }
