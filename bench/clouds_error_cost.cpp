@@ -1,0 +1,623 @@
+// atmo_clouds_error_cost — the clouds' error against cost (docs/CLOUDS.md
+// "Error against cost"; tools/clouds_error_cost.py runs it and draws the
+// charts with atmo-chart).
+//
+// A fixed cumulus scene drawn through the C ABI (the plugin linked
+// statically, bench/cloud_scene.h): tests/plugin_gl/cloud_impostor_test.cpp's
+// layer (4 oktas, base 1200 m, tops 2200 m, a 6 km square 3 to 9 km north,
+// seed 11), the eye at 1700 m looking north 2 degrees up, 60 degrees vertical
+// field of view, the Sun ~50 degrees up, output DISPLAY_SRGB (exposure 1e-4),
+// 640x360 by default. Every frame draws the sky and the aerial perspective
+// first (untimed) and then the clouds pass, timed: wall ms from a drained
+// queue to glFinish (GL timer query alongside).
+//
+// Error of a frame: PSNR and RMSE of the whole displayed frame (sRGB, peak 1,
+// as the impostor test) against the reference drawn at the same eye: the
+// direct march (ATMO_CLOUD_DRAW_DIRECT) at full resolution (divisor 1) and
+// step 0.5 voxels; psnr_cloud_db is the same over the pixels the reference's
+// clouds change (more than 1/255 from the sky-only frame), where the error is.
+//
+// Sweeps (all other knobs at their defaults: impostors 128 texels, 0.5
+// degrees, 8 updates a frame; march divisor 2, step 1 voxel; 6 octaves):
+//   texels     impostor_texels 32, 64, 128, 256. Warm-up at the start eye
+//              until nothing is rendered, then `--frames` frames moving 5 m
+//              east each (re-renders within the budget happen): cost = the
+//              median of those frames; error at the last one. Twice: with
+//              the default texel rule (an impostor whose texel would cover
+//              more than 1 pixel of the march's image is handed to the
+//              direct march, so coarse tiles mean more marching), and with
+//              it lifted (impostor_max_pixels_per_texel 8): the error of the
+//              resolution alone.
+//   threshold  impostor_angle_threshold_deg 0.15, 0.5, 1, 2, 4 on a path:
+//              warm-up at the start, then `--path-frames` frames moving 30 m
+//              east each, so impostors go stale; error = the mean over the
+//              path of each frame against the direct march of that frame (mean
+//              PSNR, mean RMSE, worst PSNR); cost = the MEAN ms a frame over
+//              the path (re-renders, and a cut's burst, included).
+//   direct     the direct march, march_resolution_divisor 1, 2, 4 x
+//              march_step_voxels 0.5, 1, 2, at the texels sweep's last eye:
+//              cost = the median of `--frames` frames; divisor 1 step 0.5 is
+//              the reference itself (error 0; its cost is listed).
+//   octaves    multiple_scattering_octaves 1..8 (written to --octaves-csv):
+//              error against the Monte Carlo path tracer (tools/cloud_reference,
+//              all orders) as tests/clouds/octaves_vs_path_tracer_test.cpp
+//              measures it (the same 600 m blob, four sun/eye views, 20x20
+//              pixels, seed 11; 16384 paths a pixel by default, where the
+//              test takes 96: --spp 96 reproduces its figures, and the error
+//              grows with the paths, see docs/CLOUDS.md): the mean
+//              relative luminance error over the cloud's pixels (the mean of
+//              the four views'), and its bias. Two costs: the GL
+//              clouds pass, direct march at the defaults (divisor 2, step 1)
+//              at the texels sweep's last eye, median of `--frames` frames; and
+//              the CPU twin's march (march_cloud_ray, step 0.5 voxels) per ray
+//              over those pixels, microseconds (one thread, median of 5 blocks).
+//
+// Usage: atmo_clouds_error_cost --csv OUT.csv --octaves-csv OUT2.csv
+//        [--width 640 --height 360 --frames 6 --path-frames 12 --spp 16384 --only texels,threshold,direct,octaves]
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+#include "cloud_path_tracer.h"
+#include "cloud_scene.h"
+#include "atmo_support/image_metrics.h"
+#include "core/clouds/cloud_lighting.h"
+#include "core/clouds/cloud_optics.h"
+
+namespace {
+
+using cloud_bench::Camera;
+using cloud_bench::Host;
+using atmo::support::Image;
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double mean(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+}
+
+struct Error {
+  double psnr_db = 0.0, rmse = 0.0, psnr_cloud_db = 0.0;
+};
+
+// Whole frame (as the impostor test), and over the pixels the reference's clouds changed.
+Error frame_error(const Image& test, const Image& ref, const Image& sky_only) {
+  Error e;
+  const atmo::support::ImageDiff d = atmo::support::compare_images(test, ref, 1.0);
+  e.psnr_db = d.psnr_db;
+  e.rmse = d.rmse;
+  double sum = 0.0;
+  size_t n = 0;
+  for (size_t i = 0; i < ref.pixel_count(); ++i) {
+    bool cloud = false;
+    for (int c = 0; c < 3; ++c) cloud = cloud || std::abs(ref.rgba[4 * i + c] - sky_only.rgba[4 * i + c]) > 1.0f / 255;
+    if (!cloud) continue;
+    for (int c = 0; c < 3; ++c) {
+      const double x = double(test.rgba[4 * i + c]) - ref.rgba[4 * i + c];
+      sum += x * x;
+    }
+    n += 3;
+  }
+  const double mse = n ? sum / double(n) : 0.0;
+  e.psnr_cloud_db = mse > 0.0 ? -10.0 * std::log10(mse) : std::numeric_limits<double>::infinity();
+  return e;
+}
+
+struct Options {
+  int width = 640, height = 360, frames = 6, path_frames = 12, spp = 16384;
+  std::string csv, octaves_csv, images_dir;
+  std::set<std::string> only;
+  bool wants(const std::string& s) const { return only.empty() || only.count(s); }
+};
+
+struct Row {
+  std::string sweep, setting, label;  // no commas: the CSV is not quoted
+  double cost_ms = 0.0, cost_median_ms = 0.0, cost_mean_ms = 0.0, query_ms = 0.0;
+  Error err;
+  double psnr_worst_db = 0.0;
+  double rerendered = 0.0, impostors = 0.0, marched = 0.0, in_view = 0.0;
+  int frames = 0;
+};
+
+class Study {
+ public:
+  explicit Study(const Options& o) : o_(o), host_(o.width, o.height) {
+    layer_.type = ATMO_CLOUD_CUMULUS;
+    layer_.coverage_oktas = 4;
+    layer_.base_m = 1200.0;
+    layer_.top_m = 2200.0;
+    layer_.area_size_m = 6000.0;
+    layer_.area_centre_enu_m[1] = 6000.0;
+    layer_.seed = 11;
+  }
+
+  AtmoCloudsState state(uint32_t mode) const { return cloud_bench::clouds_state(&layer_, mode); }
+
+  // set_clouds with the knobs, then a frame looking straight down (lights,
+  // uploads, builds programs; no cloud in view) so that is not timed.
+  void apply(const AtmoCloudsState& s) {
+    const double t0 = now_s();
+    host_.set_clouds(s);
+    host_.frame(Camera{start_.east_m, start_.north_m, start_.height_m, -89.0});
+    std::fprintf(stderr, "  set_clouds + lighting: %.1f s\n", now_s() - t0);
+  }
+
+  struct Frame {
+    double ms = 0.0, query_ms = 0.0;
+    atmo::gl::CloudDrawStats stats;
+    Image image;
+  };
+  Frame frame(const Camera& cam, bool read = true) {
+    Frame f;
+    f.ms = host_.frame(cam, &f.query_ms);
+    f.stats = host_.stats();
+    if (read) f.image = host_.read();
+    return f;
+  }
+
+  // The sky-only frame (for the cloud-pixel mask).
+  Image sky_only(const Camera& cam) {
+    host_.set_view(cam);
+    host_.draw_sky();
+    glFinish();
+    return host_.read();
+  }
+
+  // The reference at each eye: the direct march, divisor 1, step 0.5.
+  std::vector<Image> references(const std::vector<Camera>& eyes, std::vector<Image>* skies) {
+    AtmoCloudsState s = state(ATMO_CLOUD_DRAW_DIRECT);
+    s.march_resolution_divisor = 1;
+    s.march_step_voxels = 0.5;
+    apply(s);
+    std::vector<Image> out;
+    for (const Camera& c : eyes) {
+      const double t0 = now_s();
+      out.push_back(frame(c).image);
+      skies->push_back(sky_only(c));
+      std::fprintf(stderr, "  reference at east %.0f m: %.1f s\n", c.east_m, now_s() - t0);
+    }
+    return out;
+  }
+
+  // Warm-up at the start: frames until nothing is created or re-rendered (at most 6).
+  void warm_up() {
+    for (int i = 0; i < 6; ++i) {
+      const Frame f = frame(start_, false);
+      if (i > 0 && f.stats.impostors_created == 0 && f.stats.impostors_updated == 0) break;
+    }
+  }
+
+  void save(const std::string& name, const Image& img) {
+    if (o_.images_dir.empty()) return;
+    std::string error;
+    atmo::support::write_png(o_.images_dir + "/" + name + ".png", img, &error);
+  }
+
+  void run() {
+    const double t_start = now_s();
+    std::printf("renderer: %s, %dx%d\n", host_.gl().renderer().c_str(), o_.width, o_.height);
+    std::vector<Camera> texel_path;
+    Camera c = start_;
+    for (int i = 0; i < o_.frames; ++i) {
+      c.east_m += 5.0;
+      texel_path.push_back(c);
+    }
+    const Camera end = texel_path.back();
+    std::vector<Camera> path;
+    c = start_;
+    for (int i = 0; i < o_.path_frames; ++i) {
+      c.east_m += 30.0;
+      path.push_back(c);
+    }
+    std::fprintf(stderr, "references (direct march, divisor 1, step 0.5 voxels)\n");
+    std::vector<Camera> eyes = {end};
+    if (o_.wants("threshold")) eyes.insert(eyes.end(), path.begin(), path.end());
+    std::vector<Image> skies;
+    const std::vector<Image> refs = references(eyes, &skies);
+    save("reference_end", refs[0]);
+
+    for (int rule = 0; rule < 2 && o_.wants("texels"); ++rule) {
+      for (uint32_t texels : {32u, 64u, 128u, 256u}) {
+        std::fprintf(stderr, "impostor_texels %u%s\n", texels, rule ? ", impostor_max_pixels_per_texel 8" : "");
+        AtmoCloudsState s = state(ATMO_CLOUD_DRAW_IMPOSTORS);
+        s.impostor_texels = texels;
+        // The second series lifts the texel rule (8 pixels a texel, the
+        // largest allowed), so coarse impostors are not handed to the march:
+        // the error of the resolution alone.
+        if (rule) s.impostor_max_pixels_per_texel = 8.0;
+        apply(s);
+        warm_up();
+        Row r;
+        r.sweep = rule ? "impostors: texels; texel rule off (8 px/texel)" : "impostors: texels (moving 5 m/frame)";
+        r.label = std::to_string(texels);
+        r.setting = std::to_string(texels);
+        std::vector<double> ms, q;
+        Frame f;
+        for (const Camera& cam : texel_path) {
+          f = frame(cam, &cam == &texel_path.back());
+          ms.push_back(f.ms);
+          q.push_back(f.query_ms);
+          r.rerendered += f.stats.impostors_updated + f.stats.impostors_created;
+          r.impostors += f.stats.impostors_drawn;
+          r.marched += f.stats.marched;
+          r.in_view += f.stats.in_view;
+        }
+        finish(&r, ms, q, false);
+        r.err = frame_error(f.image, refs[0], skies[0]);
+        r.psnr_worst_db = r.err.psnr_db;
+        save(std::string(rule ? "impostors_rule_off_texels_" : "impostors_texels_") + r.setting, f.image);
+        rows_.push_back(r);
+        print(r);
+      }
+    }
+
+    if (o_.wants("threshold")) {
+      for (double deg : {0.15, 0.5, 1.0, 2.0, 4.0}) {
+        std::fprintf(stderr, "impostor_angle_threshold_deg %.2f\n", deg);
+        AtmoCloudsState s = state(ATMO_CLOUD_DRAW_IMPOSTORS);
+        s.impostor_angle_threshold_deg = deg;
+        apply(s);
+        warm_up();
+        Row r;
+        r.sweep = "impostors: angle threshold in deg (path 30 m/frame)";
+        std::ostringstream name;
+        name << deg << " deg";
+        r.setting = name.str();
+        std::ostringstream label;
+        label << deg;
+        r.label = label.str();
+        std::vector<double> ms, q, psnr, rmse, psnr_cloud;
+        for (size_t i = 0; i < path.size(); ++i) {
+          const Frame f = frame(path[i]);
+          ms.push_back(f.ms);
+          q.push_back(f.query_ms);
+          const Error e = frame_error(f.image, refs[1 + i], skies[1 + i]);
+          psnr.push_back(e.psnr_db);
+          rmse.push_back(e.rmse);
+          psnr_cloud.push_back(e.psnr_cloud_db);
+          r.rerendered += f.stats.impostors_updated + f.stats.impostors_created;
+          r.impostors += f.stats.impostors_drawn;
+          r.marched += f.stats.marched;
+          r.in_view += f.stats.in_view;
+          std::fprintf(stderr, "    frame %zu: %.0f ms, %d re-rendered, %d stale left, PSNR %.2f dB\n", i, f.ms,
+                       f.stats.impostors_updated + f.stats.impostors_created, f.stats.impostors_stale, e.psnr_db);
+        }
+        finish(&r, ms, q, true);
+        r.err.psnr_db = mean(psnr);
+        r.err.rmse = mean(rmse);
+        r.err.psnr_cloud_db = mean(psnr_cloud);
+        r.psnr_worst_db = *std::min_element(psnr.begin(), psnr.end());
+        rows_.push_back(r);
+        print(r);
+      }
+    }
+
+    if (o_.wants("direct")) {
+      for (uint32_t divisor : {1u, 2u, 4u})
+        for (double step : {0.5, 1.0, 2.0}) {
+          std::fprintf(stderr, "direct march, divisor %u, step %.1f\n", divisor, step);
+          AtmoCloudsState s = state(ATMO_CLOUD_DRAW_DIRECT);
+          s.march_resolution_divisor = divisor;
+          s.march_step_voxels = step;
+          apply(s);
+          frame(end, false);  // warm-up
+          Row r;
+          r.sweep = "direct march: divisor " + std::to_string(divisor) + " (label: step in voxels)";
+          std::ostringstream name, label;
+          name << "d" << divisor << " step " << step;
+          r.setting = name.str();
+          label << step;
+          r.label = label.str();
+          std::vector<double> ms, q;
+          Frame f;
+          for (int i = 0; i < o_.frames; ++i) {
+            f = frame(end, i == o_.frames - 1);
+            ms.push_back(f.ms);
+            q.push_back(f.query_ms);
+            r.marched += f.stats.marched;
+            r.in_view += f.stats.in_view;
+          }
+          finish(&r, ms, q, false);
+          r.err = frame_error(f.image, refs[0], skies[0]);
+          r.psnr_worst_db = r.err.psnr_db;
+          rows_.push_back(r);
+          print(r);
+        }
+    }
+    write_csv();
+    if (o_.wants("octaves")) octaves(end);
+    summary();
+    std::fprintf(stderr, "total %.0f s\n", now_s() - t_start);
+  }
+
+ private:
+  void finish(Row* r, const std::vector<double>& ms, const std::vector<double>& q, bool use_mean) {
+    r->frames = int(ms.size());
+    r->cost_median_ms = median(ms);
+    r->cost_mean_ms = mean(ms);
+    r->cost_ms = use_mean ? r->cost_mean_ms : r->cost_median_ms;
+    r->query_ms = use_mean ? mean(q) : median(q);
+    const double n = std::max(1.0, double(ms.size()));
+    r->rerendered /= n;
+    r->impostors /= n;
+    r->marched /= n;
+    r->in_view /= n;
+  }
+
+  static void print(const Row& r) {
+    std::printf("%-46s %-12s cost %8.1f ms (median %8.1f, mean %8.1f)  PSNR %6.2f dB (cloud px %6.2f, worst %6.2f)  "
+                "RMSE %.5f  in view %.1f, impostors %.1f, marched %.1f, re-rendered %.2f/frame\n",
+                r.sweep.c_str(), r.setting.c_str(), r.cost_ms, r.cost_median_ms, r.cost_mean_ms, r.err.psnr_db,
+                r.err.psnr_cloud_db, r.psnr_worst_db, r.err.rmse, r.in_view, r.impostors, r.marched, r.rerendered);
+    std::fflush(stdout);
+  }
+
+  void write_csv() {
+    if (o_.csv.empty()) return;
+    std::ofstream f(o_.csv);
+    f << "# atmo_clouds_error_cost " << o_.width << "x" << o_.height << " on " << host_.gl().renderer()
+      << ": error against the direct march at divisor 1, step 0.5 voxels (PSNR of the displayed sRGB frame, peak 1);"
+         " cost_ms: clouds pass wall ms per frame (median; the threshold path: mean)\n";
+    f << "sweep,setting,label,cost_ms,cost_median_ms,cost_mean_ms,timer_query_ms,psnr_db,psnr_cloud_db,psnr_worst_db,rmse,"
+         "in_view,impostors,marched,rerendered_per_frame,frames\n";
+    char buf[512];
+    for (const Row& r : rows_) {
+      if (!std::isfinite(r.err.psnr_db)) continue;  // the reference against itself: listed in the summary
+      std::snprintf(buf, sizeof buf, "%s,%s,%s,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.2f,%.6f,%.1f,%.1f,%.1f,%.2f,%d\n",
+                    r.sweep.c_str(), r.setting.c_str(), r.label.c_str(), r.cost_ms, r.cost_median_ms, r.cost_mean_ms, r.query_ms,
+                    r.err.psnr_db, r.err.psnr_cloud_db, r.psnr_worst_db, r.err.rmse, r.in_view, r.impostors, r.marched,
+                    r.rerendered, r.frames);
+      f << buf;
+    }
+    for (const Row& r : rows_) {
+      if (std::isfinite(r.err.psnr_db)) continue;
+      std::snprintf(buf, sizeof buf, "# reference (%s): cost %.2f ms median, %d frames\n", r.setting.c_str(),
+                    r.cost_median_ms, r.frames);
+      f << buf;
+    }
+  }
+
+  // ---- (d) octaves against the path tracer ----
+
+  // tests/clouds/octaves_vs_path_tracer_test.cpp's blob: a flattened sphere
+  // with a flat base and noisy edges, 600 m across at 20 m voxels, optical
+  // depth ~20 through the centre (copied: the test's is file-local).
+  static atmo::clouds::CloudVolume blob() {
+    atmo::clouds::CloudVolume c;
+    c.name = "blob";
+    c.voxel_size_m = 20.0f;
+    const int n = 32;
+    c.density = atmo::clouds::DenseGrid(n, n, n);
+    for (int z = 1; z < n - 1; ++z)
+      for (int y = 1; y < n - 1; ++y)
+        for (int x = 1; x < n - 1; ++x) {
+          const glm::vec3 p = (glm::vec3(x, y, z) + 0.5f - 0.5f * n) / (0.5f * n - 1.5f);
+          const float r = glm::length(glm::vec3(p.x, p.y, p.z * 1.3f + 0.25f));
+          const float wobble = 0.12f * std::sin(7.0f * p.x) * std::sin(5.0f * p.y + 1.0f) * std::cos(6.0f * p.z);
+          const float d = std::clamp((1.0f - r + wobble) * 4.0f, 0.0f, 1.0f);
+          c.density.at(x, y, z) = z > 4 ? d : 0.0f;
+        }
+    c.optics.extinction_per_m = 0.06f;
+    return c;
+  }
+
+  void octaves(const Camera& end) {
+    namespace cl = atmo::clouds;
+    namespace ref = atmo::clouds::reference;
+    const cl::CloudVolume cloud = blob();
+    const glm::dvec3 centre = cloud.centre_enu_m();
+    struct View {
+      const char* name;
+      glm::dvec3 sun, eye_offset;
+    };
+    const View views[] = {
+        {"sun behind the eye", glm::normalize(glm::dvec3(0, -1, 1)), glm::dvec3(0, -2000, 0)},
+        {"sun to the side", glm::normalize(glm::dvec3(1, 0, 0.58)), glm::dvec3(0, -2000, 0)},
+        {"sun behind the cloud", glm::normalize(glm::dvec3(0, 1, 0.36)), glm::dvec3(0, -2000, 0)},
+        {"from below", glm::dvec3(0, 0, 1), glm::dvec3(0, -300, -1500)},
+    };
+    // The path-traced references and each view's rays (once).
+    struct Traced {
+      std::vector<glm::dvec3> dirs;
+      std::vector<double> truth;
+      glm::dvec3 eye, sun;
+      cl::LightDepths depths;
+      cl::twin::CloudMarch march;
+    };
+    std::vector<Traced> traced;
+    const cl::twin::CloudPhase phase = cl::phase_for_droplet(cloud.optics.droplet_diameter_um);
+    for (const View& v : views) {
+      const double t0 = now_s();
+      ref::CloudEnvironment env;
+      env.light_direction = v.sun;
+      env.light_illuminance_lux = glm::dvec3(100000.0);
+      env.sky_radiance = glm::dvec3(4000.0);
+      env.ground_radiance = glm::dvec3(1500.0);
+      ref::PinholeCamera cam;
+      cam.position_enu_m = centre + v.eye_offset;
+      cam.forward = centre - cam.position_enu_m;
+      cam.up = glm::dvec3(0, 0, 1);
+      cam.vertical_fov_rad = 2.0 * std::atan(cloud.bounding_radius_m() / glm::length(cam.forward)) * 0.9;
+      cam.width = cam.height = 20;
+      ref::PathTraceSettings s;
+      s.samples_per_pixel = o_.spp;
+      s.seed = 11;
+      const ref::CloudImage img = ref::path_trace(cloud, env, cam, s);
+      Traced t;
+      t.eye = cam.position_enu_m;
+      t.sun = v.sun;
+      cl::CloudLight light;
+      light.direction_enu = v.sun;
+      light.illuminance_lux = env.light_illuminance_lux;
+      light.sky_radiance = env.sky_radiance;
+      light.ground_radiance = env.ground_radiance;
+      t.depths = cl::compute_light_depths(cloud, v.sun);
+      t.march = cl::make_cloud_march(cloud, light, 0.5f, 2048);
+      const glm::dvec3 fwd = glm::normalize(cam.forward);
+      const glm::dvec3 right = glm::normalize(glm::cross(fwd, cam.up));
+      const glm::dvec3 up = glm::cross(right, fwd);
+      const double th = std::tan(0.5 * cam.vertical_fov_rad);
+      for (int row = 0; row < cam.height; ++row)
+        for (int col = 0; col < cam.width; ++col) {
+          const size_t i = size_t(row) * cam.width + col;
+          if (img.transmittance[i] > 0.5f) continue;  // the cloud's body only, as the test
+          const double y = (1.0 - 2.0 * (row + 0.5) / cam.height) * th;
+          const double x = (2.0 * (col + 0.5) / cam.width - 1.0) * th;
+          t.dirs.push_back(glm::normalize(fwd + x * right + y * up));
+          t.truth.push_back(img.radiance[i].g);
+        }
+      std::fprintf(stderr, "path tracer, %s: %zu cloud pixels, %.1f s\n", v.name, t.truth.size(), now_s() - t0);
+      traced.push_back(std::move(t));
+    }
+
+    std::ofstream f;
+    if (!o_.octaves_csv.empty()) {
+      f.open(o_.octaves_csv);
+      f << "# atmo_clouds_error_cost: multiple-scattering octaves against the path tracer (tests/clouds/"
+           "octaves_vs_path_tracer_test.cpp's blob and views, "
+        << o_.spp
+        << " paths/pixel); gl_ms: clouds pass, direct march at divisor 2 step 1, "
+        << o_.width << "x" << o_.height << ", median; cpu_us_per_ray: march_cloud_ray, step 0.5 voxels\n";
+      f << "octaves,setting,gl_ms,rel_error_pct,bias_pct,worst_view_pct,cpu_us_per_ray\n";
+    }
+    for (int n = 1; n <= 8; ++n) {
+      cl::twin::CloudOctaves oc = cl::default_octaves();
+      oc.count = n;
+      double err = 0.0, bias = 0.0, worst = 0.0;
+      size_t rays = 0;
+      double volatile sink = 0.0;
+      for (const Traced& t : traced) {
+        double e = 0.0;
+        for (size_t i = 0; i < t.dirs.size(); ++i) {
+          const cl::twin::CloudSample s = cl::march_cloud_ray(cloud, t.depths, t.march, phase, oc, t.eye, t.dirs[i], 1e9);
+          e += std::abs(s.radiance.g - t.truth[i]) / t.truth[i];
+          bias += s.radiance.g / t.truth[i] - 1.0;
+        }
+        rays += t.dirs.size();
+        e /= double(std::max<size_t>(1, t.dirs.size()));
+        err += e / double(std::size(views));
+        worst = std::max(worst, e);
+      }
+      bias /= double(std::max<size_t>(1, rays));
+      // CPU cost: the same rays, 100 times, in 5 blocks; the median block (one thread).
+      const int repeats = 100;
+      std::vector<double> block_us;
+      for (int b = 0; b < 5; ++b) {
+        const double t0 = now_s();
+        for (int k = 0; k < repeats; ++k)
+          for (const Traced& t : traced)
+            for (const glm::dvec3& d : t.dirs)
+              sink = sink + cl::march_cloud_ray(cloud, t.depths, t.march, phase, oc, t.eye, d, 1e9).radiance.g;
+        block_us.push_back((now_s() - t0) * 1e6 / double(repeats * rays));
+      }
+      const double us_per_ray = median(block_us);
+      // GL cost: the direct march at the defaults with n octaves.
+      AtmoCloudsState s = state(ATMO_CLOUD_DRAW_DIRECT);
+      s.multiple_scattering_octaves = uint32_t(n);
+      apply(s);
+      frame(end, false);
+      std::vector<double> ms;
+      for (int i = 0; i < o_.frames; ++i) ms.push_back(frame(end, false).ms);
+      const double gl_ms = median(ms);
+      std::printf("octaves %d: mean relative luminance error %5.1f %% (bias %+5.1f %%, worst view %5.1f %%), GL direct "
+                  "march %.1f ms, CPU %.2f us/ray\n",
+                  n, 100 * err, 100 * bias, 100 * worst, gl_ms, us_per_ray);
+      std::fflush(stdout);
+      if (f) {
+        char buf[256];
+        std::snprintf(buf, sizeof buf, "%d,%d,%.2f,%.2f,%.2f,%.2f,%.3f\n", n, n, gl_ms, 100 * err, 100 * bias,
+                      100 * worst, us_per_ray);
+        f << buf;
+      }
+    }
+  }
+
+  // The speed-up of impostors over the direct march at equal quality.
+  void summary() {
+    const Row* imp = nullptr;
+    for (const Row& r : rows_)
+      if (r.sweep.rfind("impostors: texels (", 0) == 0 && r.setting == "128") imp = &r;
+    if (!imp) return;
+    const Row* best = nullptr;
+    const Row* def = nullptr;
+    for (const Row& r : rows_) {
+      if (r.sweep.rfind("direct", 0) != 0) continue;
+      if (r.setting == "d2 step 1") def = &r;
+      if (r.err.psnr_db >= imp->err.psnr_db && (!best || r.cost_ms < best->cost_ms)) best = &r;
+    }
+    std::printf("default impostors (128 texels, 0.5 deg): %.1f ms, PSNR %.2f dB\n", imp->cost_ms, imp->err.psnr_db);
+    if (best)
+      std::printf("cheapest direct march at >= that PSNR: %s, %.1f ms, PSNR %.2f dB: impostors %.1fx faster\n",
+                  best->setting.c_str(), best->cost_ms, best->err.psnr_db, best->cost_ms / imp->cost_ms);
+    if (def)
+      std::printf("default direct march (d2 step 1): %.1f ms, PSNR %.2f dB: impostors %.1fx faster\n", def->cost_ms,
+                  def->err.psnr_db, def->cost_ms / imp->cost_ms);
+  }
+
+  Options o_;
+  Host host_;
+  AtmoCloudLayer layer_ = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
+  const Camera start_{0.0, 0.0, 1700.0, 2.0};
+  std::vector<Row> rows_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "%s needs a value\n", a.c_str());
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    if (a == "--csv") o.csv = next();
+    else if (a == "--octaves-csv") o.octaves_csv = next();
+    else if (a == "--images") o.images_dir = next();
+    else if (a == "--width") o.width = std::stoi(next());
+    else if (a == "--height") o.height = std::stoi(next());
+    else if (a == "--frames") o.frames = std::max(1, std::stoi(next()));
+    else if (a == "--path-frames") o.path_frames = std::max(1, std::stoi(next()));
+    else if (a == "--spp") o.spp = std::max(1, std::stoi(next()));
+    else if (a == "--only") {
+      std::stringstream ss(next());
+      std::string item;
+      while (std::getline(ss, item, ',')) o.only.insert(item);
+    } else {
+      std::fprintf(stderr,
+                   "usage: atmo_clouds_error_cost [--csv F] [--octaves-csv F] [--images DIR] [--width 640] "
+                   "[--height 360] [--frames 6] [--path-frames 12] [--spp 16384] [--only texels,threshold,direct,octaves]\n");
+      return 2;
+    }
+  }
+  try {
+    Study study(o);
+    study.run();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "atmo_clouds_error_cost: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
