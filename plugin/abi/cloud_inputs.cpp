@@ -244,6 +244,10 @@ bool relight_clouds(ContextClouds* c, const glm::dvec3& light_dir) {
     c->depths = c->relight.job->take();
     c->lit_direction_enu = c->relight.job->direction();
     c->relight_ms = c->relight.job->elapsed_ms();
+    if (c->relight.job->has_shadow()) {
+      c->shadow = c->relight.job->take_shadow();
+      ++c->shadow_version;
+    }
     c->relight.job.reset();
     ++c->version;
     changed = true;
@@ -258,8 +262,18 @@ bool relight_clouds(ContextClouds* c, const glm::dvec3& light_dir) {
   }
   if (c->relight.job) return changed;  // one at a time: the next starts after it
   if (glm::dot(c->lit_direction_enu, light_dir) >= std::cos(c->settings.light_threshold_rad)) return changed;
-  c->relight.job = std::make_unique<CloudRelightJob>(&c->field, c->depths, light_dir);
+  c->relight.job = std::make_unique<CloudRelightJob>(&c->field, c->depths, light_dir, c->shadow_wanted);
   return changed;
+}
+
+bool update_cloud_shadow(ContextClouds* c) {
+  c->shadow_wanted = true;
+  if (c->empty() || glm::length(c->lit_direction_enu) < 0.5) return false;
+  if (c->shadow.size > 0 && c->shadow.light_direction_enu == c->lit_direction_enu) return false;
+  if (c->relight.job && c->relight.job->has_shadow()) return false;  // the worker brings it
+  c->shadow = make_shadow_map(c->field, c->lit_direction_enu);
+  ++c->shadow_version;
+  return true;
 }
 
 glm::dvec3 eye_in_cloud_frame(const ContextClouds& c, const glm::dvec3& eye_ecef_m) {

@@ -16,6 +16,7 @@
 #include "core/clouds/cloud_field.h"
 #include "core/clouds/cloud_lighting.h"
 #include "core/clouds/cloud_optics.h"
+#include "core/clouds/cloud_shadow.h"
 #include "core/clouds/impostor_policy.h"
 #include "core/geodesy.h"
 
@@ -52,6 +53,10 @@ struct ContextClouds {
   double mean_centre_height_m = 0.0;         // of the clouds' centres, above origin: where the light is taken
   CloudSettings settings;
   double relight_ms = 0.0;                   // the last relight, for logs and benchmarks
+  // The shadow map (get_cloud_shadows): made once a host asks, then with every relight.
+  bool shadow_wanted = false;
+  clouds::CloudShadowMap shadow;
+  uint64_t shadow_version = 0;               // bumps when the map changes (GL re-uploads)
   ContextClouds() = default;
   ContextClouds(ContextClouds&&) = default;
   ContextClouds& operator=(ContextClouds&&) = default;
@@ -75,6 +80,10 @@ clouds::CloudLight cloud_light(AtmoContext_T* context, AtmoView_T* view, const c
 // are swapped in by the first call after it ends. Returns true when the grids
 // changed.
 bool relight_clouds(ContextClouds* clouds, const glm::dvec3& light_direction_enu);
+
+// Makes the shadow map now if it is wanted for the first time or stale
+// (relights then keep it up to date); true when it changed.
+bool update_cloud_shadow(ContextClouds* clouds);
 
 // The eye in the clouds' ENU frame, and the rotation from the view's ENU axes
 // (at the eye) to the clouds' ENU axes.

@@ -32,9 +32,13 @@ void relight_all(const clouds::CloudField& field, const glm::dvec3& dir, std::ve
   }
 }
 
+clouds::CloudShadowMap make_shadow_map(const clouds::CloudField& field, const glm::dvec3& dir) {
+  return clouds::compute_cloud_shadow_map(field, dir, 256, 100000.0, 2.0f);
+}
+
 CloudRelightJob::CloudRelightJob(const clouds::CloudField* field, std::vector<clouds::LightDepths> depths,
-                                 const glm::dvec3& dir)
-    : field_(field), depths_(std::move(depths)), direction_(dir) {
+                                 const glm::dvec3& dir, bool with_shadow)
+    : field_(field), depths_(std::move(depths)), direction_(dir), with_shadow_(with_shadow) {
   thread_ = std::thread([this] { run(); });
 }
 
@@ -50,6 +54,7 @@ void CloudRelightJob::wait() {
 void CloudRelightJob::run() {
   const auto t0 = std::chrono::steady_clock::now();
   relight_all(*field_, direction_, &depths_, &cancel_);
+  if (with_shadow_ && !cancel_.load()) shadow_ = make_shadow_map(*field_, direction_);
   elapsed_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   done_.store(true, std::memory_order_release);
 }

@@ -18,6 +18,7 @@
 
 #include "core/clouds/cloud_field.h"
 #include "core/clouds/cloud_lighting.h"
+#include "core/clouds/cloud_shadow.h"
 
 namespace atmo::abi {
 
@@ -26,7 +27,7 @@ class CloudRelightJob {
   // Starts at once on a new thread; `depths` is the grids to update (their
   // tau_up and tau_down are kept, tau_light replaced).
   CloudRelightJob(const clouds::CloudField* field, std::vector<clouds::LightDepths> depths,
-                  const glm::dvec3& light_direction_enu);
+                  const glm::dvec3& light_direction_enu, bool with_shadow);
   ~CloudRelightJob();  // cancels a running job and joins
   CloudRelightJob(const CloudRelightJob&) = delete;
   CloudRelightJob& operator=(const CloudRelightJob&) = delete;
@@ -36,6 +37,9 @@ class CloudRelightJob {
   void wait();
   // After done(): the grids (moved out) and what they were lit for.
   std::vector<clouds::LightDepths> take() { return std::move(depths_); }
+  // After done(), when made with_shadow: the shadow map for the new light (moved out).
+  clouds::CloudShadowMap take_shadow() { return std::move(shadow_); }
+  bool has_shadow() const { return with_shadow_; }
   const glm::dvec3& direction() const { return direction_; }
   double elapsed_ms() const { return elapsed_ms_; }
 
@@ -44,6 +48,8 @@ class CloudRelightJob {
   const clouds::CloudField* field_;
   std::vector<clouds::LightDepths> depths_;
   glm::dvec3 direction_;
+  bool with_shadow_;
+  clouds::CloudShadowMap shadow_;
   double elapsed_ms_ = 0.0;
   std::atomic<bool> cancel_{false};
   std::atomic<bool> done_{false};
@@ -73,5 +79,8 @@ struct CloudRelightSlot {
 // Stops early, leaving the grids partly updated, when *cancel becomes true.
 void relight_all(const clouds::CloudField& field, const glm::dvec3& light_direction_enu,
                  std::vector<clouds::LightDepths>* depths, const std::atomic<bool>* cancel = nullptr);
+
+// The plugin's shadow map of the clouds for a light (256^2, 2-voxel steps).
+clouds::CloudShadowMap make_shadow_map(const clouds::CloudField& field, const glm::dvec3& light_direction_enu);
 
 }  // namespace atmo::abi

@@ -522,6 +522,63 @@ AtmoResult get_lighting(AtmoView view_handle, AtmoLighting* out) {
   });
 }
 
+AtmoResult get_cloud_shadows(AtmoView view_handle, AtmoCloudShadows* out) {
+  AtmoView_T* view = live_view(view_handle, "get_cloud_shadows");
+  if (!view) return ATMO_ERROR_INVALID_HANDLE;
+  AtmoContext_T* ctx = view->context;
+  return guarded(ctx, "get_cloud_shadows", [&]() -> AtmoResult {
+    AtmoCloudShadows m;
+    ReadError e = read_struct(out, ATMO_TYPE_CLOUD_SHADOWS, "AtmoCloudShadows", &m);
+    if (e.code) return fail(ctx, "get_cloud_shadows", e);
+    if (!ctx->gl_alive)
+      return fail(ctx, ATMO_ERROR_CALL_OUT_OF_ORDER, "get_cloud_shadows", "gl_init has not been called on this context");
+    if (!ctx->have_frame)
+      return fail(ctx, ATMO_ERROR_CALL_OUT_OF_ORDER, "get_cloud_shadows", "set_frame has not been called");
+    if (!view->have_state)
+      return fail(ctx, ATMO_ERROR_CALL_OUT_OF_ORDER, "get_cloud_shadows", "set_view has not been called");
+    AtmoResult result = ATMO_STATUS_NOTHING_TO_DRAW;
+    atmo::abi::ContextClouds& c = ctx->clouds;
+    if (!c.empty()) {
+      const atmo::core::Scene scene = atmo::abi::prepare_scene(ctx, *view);
+      atmo::abi::relight_clouds(&c, atmo::abi::cloud_light(ctx, view, scene).direction_enu);
+      atmo::abi::update_cloud_shadow(&c);
+      GLuint texture = 0;
+      std::string error;
+      if (!ctx->cloud_renderer.shadow_texture(c.shadow, c.field_version, c.shadow_version, &texture, &error))
+        return fail(ctx, ATMO_ERROR_GL, "get_cloud_shadows", error);
+      if (texture) {
+        // The host's world -> ECEF -> the clouds' ENU -> the map's (u, v).
+        glm::dmat4 ecef_from_world(1.0);
+        if (view->state.world_frame == ATMO_WORLD_ENU) {
+          const double* o = view->state.world_origin_geodetic;
+          ecef_from_world = glm::dmat4(atmo::core::ecef_from_enu(o[0], o[1]));
+          ecef_from_world[3] = glm::dvec4(atmo::core::ecef_from_geodetic({o[0], o[1], o[2]}), 1.0);
+        }
+        glm::dmat4 clouds_from_ecef(glm::transpose(c.ecef_from_enu));
+        clouds_from_ecef[3] = glm::dvec4(-(glm::transpose(c.ecef_from_enu) * c.origin_ecef_m), 1.0);
+        const glm::dmat4 uv = atmo::clouds::cloud_shadow_uv_from_enu(c.shadow) * clouds_from_ecef * ecef_from_world;
+        for (int col = 0; col < 4; ++col)
+          for (int row = 0; row < 4; ++row) m.uv_from_world[col * 4 + row] = uv[col][row];
+        const glm::dvec3 light_world = glm::transpose(glm::dmat3(ecef_from_world)) *
+                                       (c.ecef_from_enu * c.shadow.light_direction_enu);
+        for (int i = 0; i < 3; ++i) m.light_direction_world[i] = light_world[i];
+        m.texture = texture;
+        m.size = static_cast<uint32_t>(c.shadow.size);
+        m.texel_m = c.shadow.texel_m;
+        result = ATMO_SUCCESS;
+      }
+    }
+    if (result != ATMO_SUCCESS) {
+      m.texture = 0;
+      m.size = 0;
+    }
+    const size_t n = out->header.struct_size < sizeof(m) ? out->header.struct_size : sizeof(m);
+    m.header = out->header;
+    std::memcpy(static_cast<void*>(out), &m, n);
+    return result;
+  });
+}
+
 const AtmoPluginApi kApi = {
     {ATMO_TYPE_PLUGIN_API, sizeof(AtmoPluginApi), nullptr},
     ATMO_INTERFACE_VERSION_1,
@@ -542,6 +599,7 @@ const AtmoPluginApi kApi = {
     &render_pass,
     &get_lighting,
     &set_clouds,
+    &get_cloud_shadows,
 };
 
 }  // namespace

@@ -29,6 +29,7 @@ ATMO_V1_SIZE(AtmoPassInfo, 24);
 ATMO_V1_SIZE(AtmoLighting, 104);
 ATMO_V1_SIZE(AtmoCloudLayer, 168);
 ATMO_V1_SIZE(AtmoCloudsState, 80);
+ATMO_V1_SIZE(AtmoCloudShadows, 184);
 #undef ATMO_V1_SIZE
 
 struct ReadError {

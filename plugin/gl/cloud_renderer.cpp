@@ -114,7 +114,7 @@ void CloudRenderer::destroy() {
   if (vao_) glDeleteVertexArrays(1, &vao_);
   for (GLuint f : {fbo_, bake_fbo_})
     if (f) glDeleteFramebuffers(1, &f);
-  for (GLuint t : {target_, atlas_})
+  for (GLuint t : {target_, atlas_, shadow_})
     if (t) glDeleteTextures(1, &t);
   for (GLuint s : {linear_sampler_, border_sampler_})
     if (s) glDeleteSamplers(1, &s);
@@ -168,6 +168,7 @@ bool CloudRenderer::upload_atlas(const CloudFrameInputs& frame, std::string* err
     for (int k = 0; k < size_z; ++k)
       glTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, k, size_x, size_y, 1, GL_RGBA, GL_FLOAT, zeros.data());
   }
+  glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);  // a host's bound PBO would be read instead (restored by the guard)
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
   for (size_t p = 0; p < protos.size(); ++p) {
@@ -193,6 +194,34 @@ bool CloudRenderer::ensure_target(int w, int h, std::string* error) {
   target_w_ = w;
   target_h_ = h;
   return check_gl("allocating the cloud image", error);
+}
+
+bool CloudRenderer::shadow_texture(const clouds::CloudShadowMap& map, uint64_t field_version, uint64_t shadow_version,
+                                   GLuint* texture, std::string* error) {
+  *texture = 0;
+  if (map.size <= 0) return true;
+  if (shadow_ && field_version == shadow_field_version_ && shadow_version == shadow_version_) {
+    *texture = shadow_;
+    return true;
+  }
+  while (glGetError() != GL_NO_ERROR) {}
+  GlStateGuard guard(1);
+  if (!shadow_) glGenTextures(1, &shadow_);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, shadow_);
+  glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);  // a host's bound PBO would be read instead (restored by the guard)
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_R16F, map.size, map.size, 0, GL_RED, GL_FLOAT, map.transmittance.data());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+  shadow_field_version_ = field_version;
+  shadow_version_ = shadow_version;
+  *texture = shadow_;
+  return check_gl("uploading the cloud shadow map", error);
 }
 
 void CloudRenderer::set_cloud_uniforms(const InstanceUniforms& u, const CloudFrameInputs& frame) const {

@@ -16,6 +16,7 @@
 
 #include "core/clouds/cloud_field.h"
 #include "core/clouds/cloud_lighting.h"
+#include "core/clouds/cloud_shadow.h"
 #include "core/clouds/cloud_twin.h"
 #include "core/clouds/impostor_policy.h"
 #include "gl/impostor_atlas.h"
@@ -61,6 +62,11 @@ class CloudRenderer {
   void forget();
   // Draws the clouds over the bound framebuffer. *drawn = false when no cloud was in view.
   bool draw(Renderer& renderer, const PassInputs& in, const CloudFrameInputs& frame, bool* drawn, std::string* error);
+
+  // The clouds' shadow map as a GL texture (R16F, linear, clamped), uploaded
+  // when (field_version, shadow_version) changes. [gl-current]
+  bool shadow_texture(const clouds::CloudShadowMap& map, uint64_t field_version, uint64_t shadow_version,
+                      GLuint* texture, std::string* error);
 
   size_t atlas_bytes() const { return atlas_bytes_; }
   size_t impostor_bytes() const { return impostors_.bytes(); }
@@ -122,6 +128,8 @@ class CloudRenderer {
   uint64_t uploaded_version_ = 0;
   size_t atlas_bytes_ = 0;
   ImpostorAtlas impostors_;
+  GLuint shadow_ = 0;
+  uint64_t shadow_field_version_ = 0, shadow_version_ = 0;
   std::vector<Impostor> impostor_of_;     // per instance
   uint64_t impostor_field_version_ = 0;
   CloudDrawStats stats_;

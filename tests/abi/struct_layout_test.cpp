@@ -14,7 +14,8 @@ TEST(StructLayout, Version1SizesAreFrozen) {
   EXPECT_EQ(sizeof(AtmoNegotiateInfo), V1Size<AtmoNegotiateInfo>::value);
   // The function table grew at its end (set_clouds); 144-byte hosts get no clouds.
   EXPECT_EQ(V1Size<AtmoPluginApi>::value, 144u);
-  EXPECT_EQ(sizeof(AtmoPluginApi), 152u);
+  EXPECT_EQ(sizeof(AtmoPluginApi), 160u);  // then get_cloud_shadows
+  EXPECT_EQ(sizeof(AtmoCloudShadows), V1Size<AtmoCloudShadows>::value);
   EXPECT_EQ(sizeof(AtmoCloudLayer), V1Size<AtmoCloudLayer>::value);
   // AtmoCloudsState grew at its end (impostor settings); 80-byte hosts get the defaults.
   EXPECT_EQ(V1Size<AtmoCloudsState>::value, 80u);
@@ -37,6 +38,7 @@ TEST(StructLayout, Version1OffsetsAreFrozen) {
   EXPECT_EQ(offsetof(AtmoPluginApi, result_string), 32u);
   EXPECT_EQ(offsetof(AtmoPluginApi, get_lighting), 136u);
   EXPECT_EQ(offsetof(AtmoPluginApi, set_clouds), 144u);
+  EXPECT_EQ(offsetof(AtmoPluginApi, get_cloud_shadows), 152u);
   EXPECT_EQ(offsetof(AtmoCloudsState, light_update_threshold_deg), 72u);
   EXPECT_EQ(offsetof(AtmoCloudsState, draw_mode), 80u);
   EXPECT_EQ(offsetof(AtmoHostServices, gl_get_proc_address), 72u);

@@ -144,3 +144,131 @@ TEST(HostAerialInclude, TransparentSurfaceMatchesThePluginsPass) {
   glDeleteShader(fs_id);
   glDeleteVertexArrays(1, &vao);
 }
+
+// The clouds' shadow map through get_cloud_shadows and the host include
+// (host_sdk/include/atmo/atmo_cloud_shadow.glsl): no clouds, no map; with
+// clouds a map with shadows in it; its matrix slides a point along the
+// light; the include, drawn by a host program over a grid of ground points,
+// returns the bilinear lookup of the map at the matrix's (u, v) computed here
+// in double precision.
+TEST(HostCloudShadowInclude, MatchesTheMapAtTheMatrixUv) {
+  plugin_gl::Fixture f;
+  const AtmoPluginApi& api = f.plugin->api();
+  auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+  frame.utc_posix_s = 1.72e9;  // the Sun ~50 degrees up
+  f.context->set_frame(frame);
+  const glm::dmat4 proj = glm::perspective(glm::radians(60.0), double(plugin_gl::kWidth) / plugin_gl::kHeight, 1.0, 1e5);
+  f.view->set(plugin_gl::innsbruck_view(500.0, 0.0, 10.0, proj));
+  AtmoCloudShadows m = atmo::make<AtmoCloudShadows>(ATMO_TYPE_CLOUD_SHADOWS);
+  EXPECT_EQ(api.get_cloud_shadows(f.view->handle(), &m), ATMO_STATUS_NOTHING_TO_DRAW);
+  EXPECT_EQ(m.texture, 0u);
+  AtmoCloudShadows small = m;
+  small.header.struct_size = 16;
+  EXPECT_EQ(api.get_cloud_shadows(f.view->handle(), &small), ATMO_ERROR_STRUCT_TOO_SMALL);
+
+  AtmoCloudLayer layer = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
+  layer.type = ATMO_CLOUD_CUMULUS;
+  layer.coverage_oktas = 5;
+  layer.base_m = 1200.0;
+  layer.top_m = 2200.0;
+  layer.area_size_m = 6000.0;
+  layer.seed = 4;
+  AtmoCloudsState s = atmo::make<AtmoCloudsState>(ATMO_TYPE_CLOUDS_STATE);
+  s.origin_geodetic[0] = 47.26;
+  s.origin_geodetic[1] = 11.35;
+  s.layers = &layer;
+  s.layer_count = 1;
+  ASSERT_EQ(f.context->set_clouds(s), ATMO_SUCCESS);
+  ASSERT_EQ(api.get_cloud_shadows(f.view->handle(), &m), ATMO_SUCCESS) << f.context->last_error();
+  ASSERT_NE(m.texture, 0u);
+  ASSERT_EQ(m.size, 256u);
+  const int n = static_cast<int>(m.size);
+  std::vector<float> map(static_cast<size_t>(n) * n);
+  glBindTexture(GL_TEXTURE_2D, m.texture);
+  glGetTexImage(GL_TEXTURE_2D, 0, GL_RED, GL_FLOAT, map.data());
+  glBindTexture(GL_TEXTURE_2D, 0);
+  float lo = 1.0f, hi = 0.0f;
+  for (float t : map) {
+    ASSERT_TRUE(std::isfinite(t));
+    lo = std::min(lo, t);
+    hi = std::max(hi, t);
+  }
+  std::printf("[ shadow ] %dx%d texels of %.1f m, transmittance %.3g .. %.3g\n", n, n, m.texel_m, lo, hi);
+  EXPECT_LT(lo, 0.1f);  // there are shadows
+  EXPECT_LE(hi, 1.0f);
+  EXPECT_GE(lo, 0.0f);
+
+  glm::dmat4 uv_from_world;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) uv_from_world[c][r] = m.uv_from_world[c * 4 + r];
+  const glm::dvec3 light(m.light_direction_world[0], m.light_direction_world[1], m.light_direction_world[2]);
+  EXPECT_NEAR(glm::length(light), 1.0, 1e-9);
+  const glm::dvec3 p(100.0, 200.0, 0.0);
+  const glm::dvec4 a = uv_from_world * glm::dvec4(p, 1.0), b = uv_from_world * glm::dvec4(p + light * 1500.0, 1.0);
+  EXPECT_NEAR(a.x, b.x, 1e-9);
+  EXPECT_NEAR(a.y, b.y, 1e-9);
+
+  // A host program: each pixel a ground point of a 6 km square, through the include.
+  const GLuint vs_id = compile(GL_VERTEX_SHADER, kVertex);
+  const std::string include = read_text(ATMO_SOURCE_DIR "/host_sdk/include/atmo/atmo_cloud_shadow.glsl");
+  ASSERT_FALSE(include.empty());
+  const GLuint fs_id = compile(GL_FRAGMENT_SHADER, "#version 330 core\n" + include + R"(
+uniform sampler2D shadow_map;
+uniform mat4 uv_from_world;
+uniform vec2 size;
+out vec4 colour;
+void main() {
+  vec3 world = vec3(-3000.0 + gl_FragCoord.x / size.x * 6000.0, -3000.0 + gl_FragCoord.y / size.y * 6000.0, 0.0);
+  colour = vec4(atmo_cloud_shadow(shadow_map, uv_from_world, world), 0.0, 0.0, 1.0);
+})");
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, vs_id);
+  glAttachShader(program, fs_id);
+  glLinkProgram(program);
+  GLint linked = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &linked);
+  ASSERT_TRUE(linked);
+  GLuint vao = 0;
+  glGenVertexArrays(1, &vao);
+  f.target->bind();
+  glUseProgram(program);
+  glm::mat4 uvf(uv_from_world);
+  glUniformMatrix4fv(glGetUniformLocation(program, "uv_from_world"), 1, GL_FALSE, &uvf[0][0]);
+  glUniform2f(glGetUniformLocation(program, "size"), plugin_gl::kWidth, plugin_gl::kHeight);
+  glUniform1i(glGetUniformLocation(program, "shadow_map"), 0);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, m.texture);
+  glBindVertexArray(vao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glFinish();
+  const atmo::support::Image got = f.target->read_color();
+  double worst = 0.0;
+  int shadowed = 0;
+  for (int y = 0; y < plugin_gl::kHeight; ++y)
+    for (int x = 0; x < plugin_gl::kWidth; ++x) {
+      const glm::dvec3 w(-3000.0 + (x + 0.5) / plugin_gl::kWidth * 6000.0,
+                         -3000.0 + (y + 0.5) / plugin_gl::kHeight * 6000.0, 0.0);
+      const glm::dvec4 uv = uv_from_world * glm::dvec4(w, 1.0);
+      double expected = 1.0;
+      if (uv.x >= 0.0 && uv.y >= 0.0 && uv.x <= 1.0 && uv.y <= 1.0) {
+        const double fx = uv.x * n - 0.5, fy = uv.y * n - 0.5;
+        const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
+        auto at = [&](int i, int j) {
+          return double(map[static_cast<size_t>(std::clamp(j, 0, n - 1)) * n + std::clamp(i, 0, n - 1)]);
+        };
+        const double ax = fx - x0, ay = fy - y0;
+        expected = (1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x0 + 1, y0)) +
+                   ay * ((1 - ax) * at(x0, y0 + 1) + ax * at(x0 + 1, y0 + 1));
+      }
+      worst = std::max(worst, std::abs(got.pixel(x, plugin_gl::kHeight - 1 - y)[0] - expected));  // row 0 is the top
+      if (expected < 0.5) ++shadowed;
+    }
+  std::printf("[ shadow ] include vs the map at the matrix's uv: worst %.2e over %d points (%d in shadow)\n", worst,
+              plugin_gl::kWidth * plugin_gl::kHeight, shadowed);
+  EXPECT_GT(shadowed, 0);
+  EXPECT_LT(worst, 5e-3);
+  glDeleteProgram(program);
+  glDeleteShader(vs_id);
+  glDeleteShader(fs_id);
+  glDeleteVertexArrays(1, &vao);
+}

@@ -113,6 +113,7 @@ typedef enum AtmoStructType {
   ATMO_TYPE_LIGHTING = 0x4154000A,
   ATMO_TYPE_CLOUD_LAYER = 0x4154000B,
   ATMO_TYPE_CLOUDS_STATE = 0x4154000C,
+  ATMO_TYPE_CLOUD_SHADOWS = 0x4154000D,
   ATMO_TYPE_MAX_ENUM = 0x7fffffff
 } AtmoStructType;
 
@@ -446,6 +447,24 @@ typedef enum AtmoCloudDrawMode {
   ATMO_CLOUD_DRAW_MODE_COUNT = 2
 } AtmoCloudDrawMode;
 
+/* The clouds' shadow on the ground, for the host's terrain shading: sample it
+   with atmo_cloud_shadow() from atmo_cloud_shadow.glsl. The map holds the
+   clouds' direct transmittance towards the light (Sun or Moon) from the
+   clouds' ground plane (their origin's height); a position is slid along the
+   light onto that plane, so terrain at any height is shadowed by the clouds
+   above it (an object above the clouds is shadowed as if below them). */
+typedef struct AtmoCloudShadows {
+  AtmoStructHeader header;     /* ATMO_TYPE_CLOUD_SHADOWS; the host sets header, the plugin fills the rest */
+  uint32_t texture;            /* GL_TEXTURE_2D, R16F, linear filtering, clamped; 1 = no cloud. 0 when there
+                                  are no clouds. Owned by the plugin: valid until the next set_clouds,
+                                  gl_shutdown or gl_context_lost; the host must not change it */
+  uint32_t size;               /* texels per side */
+  double uv_from_world[16];    /* column-major 4x4: (u, v) = (M * (world_position, 1)).xy, world_position in
+                                  the view's world frame (AtmoViewState.world_frame); outside [0, 1]^2 no shadow */
+  double light_direction_world[3]; /* unit, towards the light the map was made for, world axes */
+  double texel_m;              /* texel edge on the ground plane, m */
+} AtmoCloudShadows;
+
 /* ------------------------------------------------------------------------ */
 /* Lighting for the host's own shading                                       */
 /* ------------------------------------------------------------------------ */
@@ -574,6 +593,14 @@ typedef struct AtmoPluginApi {
      plugin owns (it never calls the host), and passes keep drawing with the
      old light until it ends. [ctx-sync][no-gl] */
   AtmoResult (*set_clouds)(AtmoContext context, const AtmoCloudsState* state);
+
+  /* The clouds' shadow map for this view's world frame. Needs gl_init,
+     set_frame and set_view. The first call after set_clouds makes the map on
+     the calling thread (up to ~1 s for a large deck at low sun); from then on
+     it is remade with the clouds' light, on the relight worker. Without
+     clouds: ATMO_STATUS_NOTHING_TO_DRAW and texture 0. NULL in a table from
+     a plugin that predates it. [ctx-sync][gl-current] */
+  AtmoResult (*get_cloud_shadows)(AtmoView view, AtmoCloudShadows* out_shadows);
 } AtmoPluginApi;
 
 /* The one exported entry point. The host fills `host` and sets

@@ -1,0 +1,107 @@
+// The clouds' shadow map (core/clouds/cloud_shadow) against an independent
+// march of the field's summed extinction (field_density_at, fine steps)
+// along the light from ground points; the affine uv map slides a point along
+// the light; a grazing light or no clouds gives no shadow; a thick deck
+// shadows to (near) black.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "core/clouds/cloud_shadow.h"
+#include "core/clouds/procedural_clouds.h"
+
+namespace {
+
+using namespace atmo::clouds;
+
+CloudField cumulus_field() {
+  CloudLayerSpec spec;
+  spec.coverage_oktas = 4;
+  spec.base_m = 1000.0;
+  spec.top_m = 2000.0;
+  spec.area_size_m = 4000.0;
+  spec.seed = 5;
+  spec.max_total_voxels = 1u << 20;
+  return generate_cloud_layer(spec).field;
+}
+
+glm::dvec3 light(double elevation_deg, double azimuth_deg) {
+  const double e = glm::radians(elevation_deg), a = glm::radians(azimuth_deg);
+  return {std::cos(e) * std::sin(a), std::cos(e) * std::cos(a), std::sin(e)};
+}
+
+// exp(-integral of sigma_t) from g towards the light, fine midpoint steps.
+double reference_transmittance(const CloudField& f, const glm::dvec3& g, const glm::dvec3& l) {
+  const double extinction = f.prototypes[0].optics.extinction_per_m;
+  const double length = 4000.0 / l.z, dt = 2.0;
+  double tau = 0.0;
+  for (double t = 0.5 * dt; t < length; t += dt) tau += field_density_at(f, g + l * t) * dt * extinction;
+  return std::exp(-tau);
+}
+
+TEST(CloudShadow, MatchesAMarchOfTheField) {
+  const CloudField f = cumulus_field();
+  for (double elevation : {30.0, 60.0, 90.0}) {
+    const glm::dvec3 l = light(elevation, 135.0);
+    const CloudShadowMap map = compute_cloud_shadow_map(f, l, 256, 1e5, 0.5f);
+    ASSERT_EQ(map.size, 256);
+    std::mt19937 rng(1);
+    std::uniform_int_distribution<int> texel(0, map.size - 1);
+    double worst = 0.0, mean = 0.0, shadowed = 0.0;
+    const int n = 400;
+    for (int i = 0; i < n; ++i) {
+      const int x = texel(rng), y = texel(rng);
+      const glm::dvec3 g(map.corner_enu_m.x + (x + 0.5) * map.texel_m, map.corner_enu_m.y + (y + 0.5) * map.texel_m, 0.0);
+      const double ref = reference_transmittance(f, g, l);
+      const double got = map.transmittance[static_cast<size_t>(y) * map.size + x];
+      worst = std::max(worst, std::abs(got - ref));
+      mean += std::abs(got - ref) / n;
+      shadowed += ref < 0.5 ? 1.0 / n : 0.0;
+    }
+    std::printf("light %2.0f deg up: map %d^2 of %.0f m texels; |T - T_ref| mean %.4f, worst %.4f (%.0f %% of samples shadowed)\n",
+                elevation, map.size, map.texel_m, mean, worst, 100.0 * shadowed);
+    EXPECT_GT(shadowed, 0.05);  // the samples do hit shadows
+    EXPECT_LT(mean, 0.005);
+    EXPECT_LT(worst, 0.05);
+  }
+}
+
+TEST(CloudShadow, APointSlidesAlongTheLight) {
+  const CloudField f = cumulus_field();
+  const glm::dvec3 l = light(40.0, 200.0);
+  const CloudShadowMap map = compute_cloud_shadow_map(f, l, 128);
+  const glm::dvec3 ground(300.0, -200.0, 0.0);
+  for (double h : {0.0, 500.0, 900.0})
+    EXPECT_NEAR(sample_cloud_shadow(map, ground + l * (h / l.z)), sample_cloud_shadow(map, ground), 1e-9) << h;
+  EXPECT_EQ(sample_cloud_shadow(map, glm::dvec3(1e7, 0.0, 0.0)), 1.0);  // off the map: no shadow
+}
+
+TEST(CloudShadow, NoShadowWithoutCloudsOrWithAGrazingLight) {
+  const CloudShadowMap none = compute_cloud_shadow_map(CloudField{}, light(45.0, 0.0));
+  EXPECT_EQ(none.size, 0);
+  EXPECT_EQ(sample_cloud_shadow(none, glm::dvec3(0.0)), 1.0);
+  const CloudShadowMap grazing = compute_cloud_shadow_map(cumulus_field(), light(0.5, 90.0), 64);
+  for (float t : grazing.transmittance) ASSERT_EQ(t, 1.0f);
+  const CloudShadowMap below = compute_cloud_shadow_map(cumulus_field(), light(-10.0, 90.0), 64);
+  for (float t : below.transmittance) ASSERT_EQ(t, 1.0f);
+}
+
+TEST(CloudShadow, AnOvercastDeckShadowsTheGround) {
+  CloudLayerSpec spec;
+  spec.type = CloudLayerType::Overcast;
+  spec.coverage_oktas = 8;
+  spec.base_m = 600.0;
+  spec.top_m = 1100.0;
+  spec.area_size_m = 6000.0;
+  spec.seed = 3;
+  const CloudField f = generate_cloud_layer(spec).field;
+  const CloudShadowMap map = compute_cloud_shadow_map(f, light(45.0, 180.0), 128);
+  const double t = sample_cloud_shadow(map, glm::dvec3(0.0, 0.0, 0.0));
+  std::printf("under the deck's centre: direct transmittance %.2e\n", t);
+  EXPECT_LT(t, 1e-3);
+  EXPECT_GE(t, 0.0);
+}
+
+}  // namespace
