@@ -1,0 +1,80 @@
+#!/usr/bin/env python3
+"""The clouds' error against cost (docs/CLOUDS.md "Error against cost"): runs
+atmo_clouds_error_cost (bench/clouds_error_cost.cpp) unless --no-run, then
+draws its two CSV files with atmo-chart.
+
+  tools/clouds_error_cost.py --build build-bench \\
+      --csv docs/measurements/clouds_error_cost.csv \\
+      --octaves-csv docs/measurements/clouds_octaves_error_cost.csv \\
+      --png docs/images/clouds_error_cost.png \\
+      --octaves-png docs/images/clouds_octaves_error_cost.png \\
+      --log docs/measurements/clouds_error_cost.txt
+
+Chart 1: PSNR of the displayed frame against the direct march at full
+resolution and step 0.5 voxels (y) against the clouds pass's wall time per
+frame (x, log), one series per sweep (impostor resolution, with and without
+the texel rule; angle threshold on a moving path; the direct march at each
+resolution divisor, labelled by step), a dashed line at the default
+impostors' PSNR. Chart 2: the multiple-scattering octaves' mean relative
+luminance error against the path tracer (y) against the CPU twin's march time
+per ray (x); the GL pass time at each octave count is in the CSV.
+"""
+import argparse
+import csv
+import os
+import subprocess
+import sys
+
+
+def rows(path):
+    with open(path) as f:
+        return list(csv.DictReader(line for line in f if line.strip() and not line.startswith("#")))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--build", default="build-bench", help="build tree with atmo_clouds_error_cost and atmo-chart")
+    ap.add_argument("--csv", required=True)
+    ap.add_argument("--octaves-csv", required=True)
+    ap.add_argument("--png", required=True)
+    ap.add_argument("--octaves-png", required=True)
+    ap.add_argument("--log", help="copy of the tool's standard output")
+    ap.add_argument("--no-run", action="store_true", help="only draw the charts from existing CSV files")
+    ap.add_argument("tool_args", nargs="*", help="passed to atmo_clouds_error_cost (after --)")
+    a = ap.parse_args()
+
+    if not a.no_run:
+        cmd = [os.path.join(a.build, "bench", "atmo_clouds_error_cost"), "--csv", a.csv,
+               "--octaves-csv", a.octaves_csv] + a.tool_args
+        print(" ".join(cmd), file=sys.stderr)
+        out = subprocess.run(cmd, stdout=subprocess.PIPE, text=True)
+        sys.stdout.write(out.stdout)
+        if a.log:
+            with open(a.log, "w") as f:
+                f.write("$ " + " ".join(cmd) + "\n" + out.stdout)
+        if out.returncode:
+            return out.returncode
+
+    chart = os.path.join(a.build, "tools", "chart", "atmo-chart")
+    main_rows = rows(a.csv)
+    default = [r for r in main_rows if r["sweep"].startswith("impostors: texels (") and r["setting"] == "128"]
+    args = [chart, "--csv", a.csv, "--out", a.png, "--x", "cost_ms", "--y", "psnr_db", "--group", "sweep",
+            "--label", "label", "--logx", "--legend", "bottom-right",
+            "--title", "Clouds: error vs cost (640x360, llvmpipe; reference: direct march, full res., step 0.5)",
+            "--xlabel", "clouds pass per frame (ms, log scale; threshold path: mean, others: median)",
+            "--ylabel", "PSNR of the frame vs the reference (dB, sRGB, peak 1)", "--width", "1400", "--height", "900"]
+    if default:
+        args += ["--hline", default[0]["psnr_db"], "--hline-label", "default impostors (128 texels, 0.5 deg)"]
+    r = subprocess.call(args)
+    if r:
+        return r
+    return subprocess.call([chart, "--csv", a.octaves_csv, "--out", a.octaves_png, "--x", "cpu_us_per_ray",
+                            "--y", "rel_error_pct", "--label", "setting", "--legend", "top-right",
+                            "--title", "Cloud lighting: octaves of multiple scattering vs the path tracer",
+                            "--xlabel", "CPU twin march per ray (microseconds; label: octave count)",
+                            "--ylabel", "mean relative luminance error (%)", "--width", "1200", "--height", "800",
+                            "--hline", "15", "--hline-label", "target 15 %"])
+
+
+if __name__ == "__main__":
+    sys.exit(main())
