@@ -206,10 +206,15 @@ class Study {
     }
   }
 
-  void save(const std::string& name, const Image& img) {
+  // With --images: the frame, and with a reference its difference x 20 (name_diff.png).
+  void save(const std::string& name, const Image& img, const Image* ref = nullptr) {
     if (o_.images_dir.empty()) return;
     std::string error;
     atmo::support::write_png(o_.images_dir + "/" + name + ".png", img, &error);
+    if (!ref) return;
+    Image d = img;
+    for (size_t i = 0; i < d.rgba.size(); ++i) d.rgba[i] = i % 4 == 3 ? 1.0f : 20.0f * std::abs(img.rgba[i] - ref->rgba[i]);
+    atmo::support::write_png(o_.images_dir + "/" + name + "_diff.png", d, &error);
   }
 
   void run() {
@@ -264,7 +269,7 @@ class Study {
         finish(&r, ms, q, false);
         r.err = frame_error(f.image, refs[0], skies[0]);
         r.psnr_worst_db = r.err.psnr_db;
-        save(std::string(rule ? "impostors_rule_off_texels_" : "impostors_texels_") + r.setting, f.image);
+        save(std::string(rule ? "impostors_rule_off_texels_" : "impostors_texels_") + r.setting, f.image, &refs[0]);
         rows_.push_back(r);
         print(r);
       }
