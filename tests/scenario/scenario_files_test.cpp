@@ -87,11 +87,11 @@ double sun_elevation_deg(double lat_deg, double lon_deg, double posix_s) {
 // Shipped scenarios
 
 const std::vector<std::string> kShipped = {
-    "civil_twilight.json", "cumulus_flythrough.json", "high_altitude_12km.json",
-    "moonlit_night.json",  "noon_clear.json",         "runway_fog_night.json",
-    "sunset_haze.json"};
+    "civil_twilight.json", "cumulus_flythrough.json", "high_altitude_12km.json", "moonlit_night.json",
+    "noon_clear.json",     "overcast_dusk.json",      "runway_fog_night.json",   "sunset_haze.json",
+    "vdb_cloud.json"};
 
-TEST(ShippedScenarios, AreExactlyTheDocumentedSeven) {
+TEST(ShippedScenarios, AreExactlyTheDocumentedNine) {
   EXPECT_EQ(json_files(kConfig / "scenarios", ""), kShipped);
 }
 
@@ -144,7 +144,8 @@ TEST_P(ShippedScenario, SunElevationMatchesTheName) {
       {"noon_clear.json", 50, 90},         {"sunset_haze.json", 0, 4},
       {"civil_twilight.json", -6, -2},     {"moonlit_night.json", -90, -18},
       {"runway_fog_night.json", -90, -18}, {"cumulus_flythrough.json", 30, 90},
-      {"high_altitude_12km.json", 20, 90}};
+      {"high_altitude_12km.json", 20, 90}, {"overcast_dusk.json", 0, 4},
+      {"vdb_cloud.json", 30, 90}};
   const auto r = sc::load_scenario_file((kConfig / "scenarios" / GetParam()).string());
   ASSERT_TRUE(r.scenario) << r.error;
   const auto& s = *r.scenario;
