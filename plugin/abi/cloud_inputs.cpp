@@ -8,6 +8,7 @@
 #include "abi/objects.h"
 #include "abi/scene_inputs.h"
 #include "abi/struct_io.h"
+#include "core/clouds/field_light.h"
 #include "core/clouds/procedural_clouds.h"
 #include "core/scene.h"
 #include "core/shader_twin.h"
@@ -202,7 +203,9 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
     c.mean_centre_height_m += c.field.prototypes[static_cast<size_t>(i.prototype)].centre_at(i.origin_enu_m).z;
   c.mean_centre_height_m /= static_cast<double>(std::max<size_t>(1, c.field.instances.size()));
   c.depths.resize(c.field.prototypes.size());
-  for (size_t p = 0; p < c.field.prototypes.size(); ++p) clouds::compute_ambient_depths(c.field.prototypes[p], &c.depths[p]);
+  for (size_t p = 0; p < c.field.prototypes.size(); ++p)
+    clouds::compute_ambient_depths(c.field.prototypes[p], &c.depths[p],
+                                   clouds::continuing_sides(c.field, static_cast<int>(p)));
   c.version = out->version + 1;
   c.field_version = c.version;
   *out = std::move(c);

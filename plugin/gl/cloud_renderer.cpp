@@ -12,6 +12,9 @@
 
 namespace atmo::gl {
 
+using clouds::kOctaveFloatCount;
+using clouds::kOctaveFloats;
+
 namespace {
 constexpr GLuint kCloudUnit = kPassUnitsUsed;  // the 3D atlas (march, bake), impostor colour (boards), the image (composite)
 constexpr GLuint kImpostorDepthUnit = kPassUnitsUsed + 1;
@@ -59,9 +62,10 @@ bool CloudRenderer::init(std::string* error) {
     u.ground_radiance = loc("u_ground_radiance");
     u.step_voxels = loc("u_step_voxels");
     u.max_steps = loc("u_max_steps");
-    const char* oct[5] = {"u_octaves.count", "u_octaves.extinction_scale", "u_octaves.scattering_scale",
-                          "u_octaves.eccentricity_scale", "u_octaves.ambient_extinction"};
-    for (int i = 0; i < 5; ++i) u.octaves[i] = loc(oct[i]);
+    u.octave_count = loc("u_octaves.count");
+    u.up_grid = loc("u_octaves.up_grid");
+    for (size_t i = 0; i < kOctaveFloatCount; ++i)
+      u.octave_floats[i] = loc(("u_octaves." + std::string(kOctaveFloats[i].name)).c_str());
     return u;
   };
   march_.pass = locate_pass_uniforms(march_.program);
@@ -232,11 +236,9 @@ void CloudRenderer::set_cloud_uniforms(const InstanceUniforms& u, const CloudFra
   glUniform3fv(u.ground_radiance, 1, glm::value_ptr(glm::vec3(frame.light.ground_radiance)));
   glUniform1f(u.step_voxels, frame.step_voxels);
   glUniform1i(u.max_steps, 512);
-  glUniform1i(u.octaves[0], frame.octaves.count);
-  glUniform1f(u.octaves[1], frame.octaves.extinction_scale);
-  glUniform1f(u.octaves[2], frame.octaves.scattering_scale);
-  glUniform1f(u.octaves[3], frame.octaves.eccentricity_scale);
-  glUniform1f(u.octaves[4], frame.octaves.ambient_extinction);
+  glUniform1i(u.octave_count, frame.octaves.count);
+  glUniform3fv(u.up_grid, 1, glm::value_ptr(frame.octaves.up_grid));
+  for (size_t i = 0; i < kOctaveFloatCount; ++i) glUniform1f(u.octave_floats[i], frame.octaves.*kOctaveFloats[i].field);
 }
 
 void CloudRenderer::pack_instance(const CloudFrameInputs& frame, size_t index, float weight,
@@ -259,7 +261,9 @@ void CloudRenderer::pack_instance(const CloudFrameInputs& frame, size_t index, f
   out->push_back(glm::vec4(light_grid, off.z));
   out->push_back(glm::vec4(centre, static_cast<float>(v.bounding_radius_m())));
   out->push_back(glm::vec4(ph.g_hg, ph.g_draine, ph.alpha_draine, ph.w_draine));
-  out->push_back(glm::vec4(weight, 0.0f, 0.0f, 0.0f));
+  const clouds::ContinuingSides& s = (*frame.depths)[pi].sides;
+  const int sides = (s.west ? 1 : 0) | (s.east ? 2 : 0) | (s.south ? 4 : 0) | (s.north ? 8 : 0);
+  out->push_back(glm::vec4(weight, static_cast<float>(sides), 0.0f, 0.0f));
 }
 
 bool CloudRenderer::bake(const CloudFrameInputs& frame, size_t index, std::string* error) {

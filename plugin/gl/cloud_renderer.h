@@ -11,11 +11,13 @@
 
 #include <glad/gl.h>
 
+#include <array>
 #include <string>
 #include <vector>
 
 #include "core/clouds/cloud_field.h"
 #include "core/clouds/cloud_lighting.h"
+#include "core/clouds/cloud_optics.h"
 #include "core/clouds/cloud_shadow.h"
 #include "core/clouds/cloud_twin.h"
 #include "core/clouds/impostor_policy.h"
@@ -77,7 +79,8 @@ class CloudRenderer {
   struct InstanceUniforms {
     GLint atlas = -1, atlas_size = -1, instances = -1, instance_count = -1, light_illuminance = -1,
           sky_radiance = -1, ground_radiance = -1, step_voxels = -1, max_steps = -1;
-    GLint octaves[5] = {-1, -1, -1, -1, -1};
+    GLint octave_count = -1, up_grid = -1;
+    std::array<GLint, clouds::kOctaveFloatCount> octave_floats{};  // in kOctaveFloats' order
   };
   struct MarchProgram {
     GLuint program = 0;

@@ -49,11 +49,13 @@ bool expand(std::string_view path, std::set<std::string>& seen, std::string& out
   return true;
 }
 
-GLuint compile(GLenum stage, std::string_view path, std::string_view defines, std::string* error) {
+GLuint compile(GLenum stage, std::string_view path, std::string_view defines, std::string_view appendix,
+               std::string* error) {
   std::set<std::string> seen;
   std::string source = kVersionLine;
   source += defines;
   if (!expand(path, seen, source, error)) return 0;
+  source += appendix;
   GLuint shader = glCreateShader(stage);
   const char* text = source.c_str();
   glShaderSource(shader, 1, &text, nullptr);
@@ -77,10 +79,10 @@ std::string expand_shader_source(std::string_view path, std::string* error) {
 }
 
 GLuint build_program(std::string_view vertex_path, std::string_view fragment_path, std::string_view defines,
-                     std::string* error) {
-  GLuint vs = compile(GL_VERTEX_SHADER, vertex_path, defines, error);
+                     std::string* error, std::string_view fragment_appendix) {
+  GLuint vs = compile(GL_VERTEX_SHADER, vertex_path, defines, {}, error);
   if (!vs) return 0;
-  GLuint fs = compile(GL_FRAGMENT_SHADER, fragment_path, defines, error);
+  GLuint fs = compile(GL_FRAGMENT_SHADER, fragment_path, defines, fragment_appendix, error);
   if (!fs) {
     glDeleteShader(vs);
     return 0;

@@ -19,7 +19,7 @@ vec4 cloud_fetch(IN(vec3) atlas_offset, IN(vec3) p) {
 //   0 grid origin, voxel size m | 1 grid x axis, extinction 1/m | 2 y axis, albedo
 //   3 z axis, atlas offset x    | 4 grid size (voxels), offset y | 5 light direction (grid), offset z
 //   6 bounding-sphere centre, radius m | 7 phase (g_hg, g_draine, alpha_draine, w_draine)
-//   8 (direct-march weight, unused...)
+//   8 (direct-march weight, continuing sides as bits: west 1, east 2, south 4, north 8, unused, unused)
 const int kVec4PerInstance = 9;
 const int kMaxInstances = 64;
 uniform vec4 u_instances[kVec4PerInstance * kMaxInstances];
@@ -57,6 +57,8 @@ CloudSample cloud_instance_march(int i, vec3 dir, float t_max_m) {
   m.light_dir_grid = u_instances[b + 5].xyz;
   m.sky_radiance = u_sky_radiance;
   m.ground_radiance = u_ground_radiance;
+  int sides = int(u_instances[b + 8].y);  // bit 0 west, 1 east, 2 south, 3 north
+  m.continuing_sides = vec4(float(sides & 1), float((sides >> 1) & 1), float((sides >> 2) & 1), float((sides >> 3) & 1));
   vec4 p = u_instances[b + 7];
   CloudPhase phase;
   phase.g_hg = p.x;

@@ -21,6 +21,7 @@ struct CloudMarch {
   vec3 light_dir_grid;     // unit, towards the light, grid axes
   vec3 sky_radiance;       // cd/m^2, mean over the upper hemisphere
   vec3 ground_radiance;    // cd/m^2, mean over the lower hemisphere
+  vec4 continuing_sides;   // 1 where the grid's side face goes on into another grid (a deck's tiles): west (-x), east (+x), south (-y), north (+y)
 };
 
 struct CloudSample {
@@ -42,6 +43,27 @@ ATMO_FN vec2 cloud_box_hit(IN(vec3) origin, IN(vec3) dir, IN(vec3) size) {
 
 // origin_index: the eye in index space; dir_grid: unit view direction in grid
 // axes; t_max_m: where the ray stops (the host's surface, or far away).
+// Where a ray from the point away from the light leaves the grid through a
+// side face that goes on into another grid (a deck's next tile), the cloud
+// behind does not end there: the depth behind is then at least that of a
+// slab whose optical depth to its bottom (or top) is the point's tau_down
+// (tau_up), crossed at the light's slant (at most 20 times the vertical:
+// ~3 degrees). The march takes the larger of it and the own grid's chord;
+// at a tile border the chord jumps (short on the near side, the whole next
+// tile on the far side) but the slab's depth, which is the larger whenever
+// the ray leaves through the side, does not. 0 elsewhere.
+ATMO_FN float cloud_depth_beyond_side(IN(CloudMarch) m, IN(vec3) exit_point, float tau_up, float tau_down) {
+  float e = 1e-3f * max(m.grid_size.x, m.grid_size.y);
+  float through = 0.0f;
+  if (exit_point.x <= e) through = max(through, m.continuing_sides.x);
+  if (exit_point.x >= m.grid_size.x - e) through = max(through, m.continuing_sides.y);
+  if (exit_point.y <= e) through = max(through, m.continuing_sides.z);
+  if (exit_point.y >= m.grid_size.y - e) through = max(through, m.continuing_sides.w);
+  if (through <= 0.0f) return 0.0f;
+  float slant = max(abs(m.light_dir_grid.z), 0.05f);
+  return (m.light_dir_grid.z >= 0.0f ? tau_down : tau_up) / slant;
+}
+
 ATMO_FN CloudSample cloud_march(IN(CLOUD_VOLUME) vol, IN(CloudMarch) m, IN(CloudPhase) ph, IN(CloudOctaves) oc,
                                 IN(vec3) origin_index, IN(vec3) dir_grid, float t_max_m) {
   CloudSample s;
@@ -58,20 +80,43 @@ ATMO_FN CloudSample cloud_march(IN(CLOUD_VOLUME) vol, IN(CloudMarch) m, IN(Cloud
   float dt_m = dt * m.voxel_size_m;
   // Looking into the light through the cloud: cos = 1 (cloud_functions.glsl).
   float cos_theta = dot(m.light_dir_grid, dir_grid);
+  float mu = dot(dir_grid, oc.up_grid);  // > 0: looking up
   float depth_sum = 0.0f;
   float weight_sum = 0.0f;
   float transmittance = 1.0f;
   vec3 radiance = vec3(0.0f);
+  float owed = 0.0f;               // scattering weight whose diffuse source is still to come (cloud_lookahead_share)
+  vec3 diffuse = vec3(0.0f);       // the last sample's diffuse source (diffusion + ambient), per unit weight
   for (int i = 0; i < steps; ++i) {
     float t = hit.x + (float(i) + 0.5f) * dt;
-    vec4 v = cloud_fetch(vol, origin_index + dir_grid * t);
+    vec3 point = origin_index + dir_grid * t;
+    vec4 v = cloud_fetch(vol, point);
     float sigma_t = v.x * m.extinction_per_m;
     if (sigma_t > 0.0f) {
-      vec3 in_light = m.light_illuminance * cloud_light_octaves(ph, oc, v.y, cos_theta);
-      vec3 ambient = cloud_ambient(oc, m.sky_radiance, m.ground_radiance, v.z, v.w);
-      vec3 source = (m.albedo * sigma_t) * (in_light + ambient);
-      radiance += transmittance * cloud_step_radiance(source, sigma_t, dt_m);
+      // Optical depth behind the point, away from the light: the light grid's
+      // tau_light where the light's line through the point leaves the grid on
+      // the far side is the whole chord, so the difference is what lies behind
+      // (one more fetch; not for single scattering).
+      float tau_back = 0.0f;
+      if (oc.count > 1 && oc.diffusion_strength > 0.0f) {
+        vec2 back = cloud_box_hit(point, -m.light_dir_grid, m.grid_size);
+        vec3 far_point = clamp(point - m.light_dir_grid * back.y, vec3(0.5f), m.grid_size - vec3(0.5f));
+        tau_back = max(max(cloud_fetch(vol, far_point).y - v.y, 0.0f),
+                       cloud_depth_beyond_side(m, point - m.light_dir_grid * back.y, v.z, v.w));
+      }
+      // The octaves at the point; the diffusion and ambient terms are owed
+      // to this point's scattering and paid from the samples ahead.
+      float around = cloud_tau_around(v.y, tau_back, v.z, v.w);
+      float multiple = cloud_multiple_share(oc, around);
+      vec3 in_light = m.light_illuminance * cloud_light_octaves(ph, oc, v.y, cos_theta, multiple);
+      radiance += transmittance * cloud_step_radiance((m.albedo * sigma_t) * in_light, sigma_t, dt_m);
+      diffuse = (m.light_illuminance * multiple) * cloud_light_diffusion(oc, v.y, tau_back, v.z, v.w, cos_theta) +
+                cloud_ambient(ph, oc, m.sky_radiance, m.ground_radiance, v.z, v.w, around, mu);
       float step_t = exp(-sigma_t * dt_m);
+      owed += transmittance * m.albedo * (1.0f - step_t);
+      float share = owed * cloud_lookahead_share(oc, sigma_t * dt_m);
+      radiance += share * diffuse;
+      owed -= share;
       float w = transmittance * (1.0f - step_t);
       depth_sum += w * t * m.voxel_size_m;
       weight_sum += w;
@@ -79,7 +124,7 @@ ATMO_FN CloudSample cloud_march(IN(CLOUD_VOLUME) vol, IN(CloudMarch) m, IN(Cloud
       if (transmittance < 1e-4f) break;
     }
   }
-  s.radiance = radiance;
+  s.radiance = radiance + owed * diffuse;
   s.transmittance = transmittance;
   s.depth_m = weight_sum > 0.0f ? depth_sum / weight_sum : t_end * m.voxel_size_m;
   return s;

@@ -459,3 +459,56 @@ TEST(FieldLight, StratusWithHolesAgainstTheExactMarch) {
 }
 
 }  // namespace
+
+// The hemispherical depths (tau_up, tau_down) of the 2x2 tiles, each told
+// which of its sides go on into a neighbour (continuing_sides), against the
+// one grid's, voxel by voxel: near the inner borders (within 4 voxels) and
+// elsewhere; and without the sides, which shows the seam this removes.
+TEST(FieldLight, TileAmbientDepthsSeeTheNeighbouringTiles) {
+  const DeckPair d = make_deck_pair(64, 8, 50.0f);
+  for (size_t p = 0; p < d.tiled.prototypes.size(); ++p) {
+    const ContinuingSides s = continuing_sides(d.tiled, static_cast<int>(p));
+    const int tx = static_cast<int>(p % 2), ty = static_cast<int>(p / 2);
+    EXPECT_EQ(s.east, tx == 0) << p;
+    EXPECT_EQ(s.west, tx == 1) << p;
+    EXPECT_EQ(s.north, ty == 0) << p;
+    EXPECT_EQ(s.south, ty == 1) << p;
+  }
+  LightDepths single;
+  compute_ambient_depths(d.single, &single);
+  double mean_near[2] = {0, 0}, worst_near[2] = {0, 0}, mean_far[2] = {0, 0};
+  size_t count_near = 0, count_far = 0;
+  for (int with_sides = 0; with_sides < 2; ++with_sides) {
+    count_near = count_far = 0;
+    for (size_t p = 0; p < d.tiled.prototypes.size(); ++p) {
+      const CloudVolume& v = d.tiled.prototypes[p];
+      LightDepths t;
+      compute_ambient_depths(v, &t, with_sides ? continuing_sides(d.tiled, static_cast<int>(p)) : ContinuingSides{});
+      const int tx = static_cast<int>(p % 2), ty = static_cast<int>(p / 2);
+      for (int k = 1; k < t.nz - 1; ++k)
+        for (int j = 1; j < t.ny - 1; ++j)
+          for (int i = 1; i < t.nx - 1; ++i) {
+            if (v.density.at(i, j, k) <= 0.0f) continue;
+            const int si = tx * d.half + i, sj = ty * d.half + j;
+            const glm::vec3 ref = single.tau[single.index(si, sj, k)], got = t.tau[t.index(i, j, k)];
+            const double e = 0.5 * (std::abs(got.y - ref.y) / (1.0 + ref.y) + std::abs(got.z - ref.z) / (1.0 + ref.z));
+            const int from_border = std::min(std::abs(si - (d.half + 0.5)), std::abs(sj - (d.half + 0.5)));
+            if (from_border <= 4) {
+              mean_near[with_sides] += e, ++count_near;
+              worst_near[with_sides] = std::max(worst_near[with_sides], e);
+            } else {
+              mean_far[with_sides] += e, ++count_far;
+            }
+          }
+    }
+    mean_near[with_sides] /= double(count_near);
+    mean_far[with_sides] /= double(count_far);
+    std::printf("tiles %s the neighbours: |d tau| / (1 + tau) near the inner borders mean %.3f worst %.3f (%zu voxels), "
+                "elsewhere mean %.3f (%zu)\n",
+                with_sides ? "seeing" : "blind to", mean_near[with_sides], worst_near[with_sides], count_near,
+                mean_far[with_sides], count_far);
+  }
+  EXPECT_LE(mean_near[1], 0.05);
+  EXPECT_LE(mean_near[1], 0.33 * mean_near[0]);
+  EXPECT_LE(mean_far[1], 0.05);
+}

@@ -5,6 +5,9 @@
 
 namespace atmo::clouds {
 
+glm::vec4 continuing_sides_vector(const ContinuingSides& s) {
+  return glm::vec4(s.west ? 1.0f : 0.0f, s.east ? 1.0f : 0.0f, s.south ? 1.0f : 0.0f, s.north ? 1.0f : 0.0f);
+}
 
 glm::vec3 grid_direction(const CloudVolume& cloud, const glm::dvec3& dir_enu) {
   return glm::vec3(glm::normalize(glm::inverse(cloud.rotation) * dir_enu));
@@ -24,21 +27,154 @@ float optical_depth_to_exit(const CloudVolume& cloud, const glm::vec3& index_poi
   return static_cast<float>(sum * dt * cloud.voxel_size_m * cloud.optics.extinction_per_m);
 }
 
-void compute_ambient_depths(const CloudVolume& cloud, LightDepths* out) {
+namespace {
+
+// Optical depth to the grid's boundary from every voxel centre along one
+// direction, all voxels in one sweep: slices are visited against the
+// direction's dominant axis, and each voxel adds the segment to the next
+// slice (trapezoid of the density at both ends) to the depth found there
+// (bilinear between that slice's voxel centres, zero outside the grid). Exact
+// along an axis; elsewhere it blurs by up to a voxel, which the hemispherical
+// means below do not notice. O(voxels) per direction.
+//
+// Across a side face in `sides` (the cloud goes on there: a deck's next tile)
+// the grid is taken as extended by its outermost voxels with density (the
+// procedural tiles keep a ring of empty voxels for the GL sampler's zero
+// border; it lies over the neighbour's interior, so it reads as the voxel
+// inside it): lookups beyond the face clamp to it, and a ray leaving through
+// it goes on through that column to the top or bottom (column_up /
+// column_down over |dir.z|).
+void sweep_depths(const DenseGrid& g, const glm::vec3& dir, float per_index_unit, const ContinuingSides& sides,
+                  const std::vector<float>& column_up, const std::vector<float>& column_down,
+                  std::vector<float>* tau) {
+  const int n[3] = {g.nx, g.ny, g.nz};
+  const bool low[3] = {sides.west && g.nx >= 3, sides.south && g.ny >= 3, false};
+  const bool high[3] = {sides.east && g.nx >= 3, sides.north && g.ny >= 3, false};
+  int a = 0;
+  for (int i = 1; i < 3; ++i)
+    if (std::abs(dir[i]) > std::abs(dir[a])) a = i;
+  const int b = (a + 1) % 3, c = (a + 2) % 3;
+  const float step = 1.0f / std::abs(dir[a]);  // index units per slice
+  const int next = dir[a] > 0.0f ? 1 : -1;     // the slice the ray enters next
+  const bool exit_continues = next > 0 ? high[a] : low[a];
+  const std::vector<float>& column = dir.z > 0.0f ? column_up : column_down;
+  const float column_scale = 1.0f / std::max(std::abs(dir.z), 1e-3f);
+  // The next slice is met at (ib + ob, ic + oc): between voxel centres
+  // floor(.) and floor(.) + 1 of that slice, weights fb, fc.
+  const float ob = dir[b] * step, oc = dir[c] * step;
+  const int db = static_cast<int>(std::floor(ob)), dc = static_cast<int>(std::floor(oc));
+  const float fb = ob - static_cast<float>(db), fc = oc - static_cast<float>(dc);
+  tau->assign(g.voxel_count(), 0.0f);
+  // Where index i along `axis` reads the density (the outermost voxel inside
+  // the empty ring across a continuing face) and the depths (the grid's edge
+  // there); -1: outside, zero.
+  auto density_index = [&](int axis, int i) {
+    if (i <= 0 && low[axis]) return 1;
+    if (i >= n[axis] - 1 && high[axis]) return n[axis] - 2;
+    return i < 0 || i >= n[axis] ? -1 : i;
+  };
+  auto depth_index = [&](int axis, int i) {
+    if (i < 0) return low[axis] ? 0 : -1;
+    if (i >= n[axis]) return high[axis] ? n[axis] - 1 : -1;
+    return i;
+  };
+  auto density = [&](int ia, int ib, int ic) -> float {
+    int idx[3];
+    idx[a] = density_index(a, ia), idx[b] = density_index(b, ib), idx[c] = density_index(c, ic);
+    if (idx[a] < 0 || idx[b] < 0 || idx[c] < 0) return 0.0f;
+    return g.values[g.index(idx[0], idx[1], idx[2])];
+  };
+  auto depth = [&](int ia, int ib, int ic) -> float {
+    int idx[3];
+    idx[a] = ia, idx[b] = depth_index(b, ib), idx[c] = depth_index(c, ic);
+    if (idx[b] < 0 || idx[c] < 0) return 0.0f;
+    return (*tau)[g.index(idx[0], idx[1], idx[2])];
+  };
+  auto bilinear = [&](const auto& at, int ia, int ib, int ic) {
+    const int b0 = ib + db, c0 = ic + dc;
+    return (1.0f - fb) * (1.0f - fc) * at(ia, b0, c0) + fb * (1.0f - fc) * at(ia, b0 + 1, c0) +
+           (1.0f - fb) * fc * at(ia, b0, c0 + 1) + fb * fc * at(ia, b0 + 1, c0 + 1);
+  };
+  const int first = next > 0 ? n[a] - 1 : 0;
+  int idx[3];
+  for (int ia = first; ia >= 0 && ia < n[a]; ia -= next)
+    for (int ic = 0; ic < n[c]; ++ic)
+      for (int ib = 0; ib < n[b]; ++ib) {
+        idx[a] = ia, idx[b] = ib, idx[c] = ic;
+        const size_t i = g.index(idx[0], idx[1], idx[2]);
+        const float rho = density(ia, ib, ic);
+        const int na = ia + next;
+        float t;
+        if (na < 0 || na >= n[a]) {
+          if (exit_continues) {
+            idx[a] = density_index(a, ia), idx[b] = std::max(density_index(b, ib), 0);
+            idx[c] = std::max(density_index(c, ic), 0);
+            t = column[g.index(idx[0], idx[1], idx[2])] * column_scale;
+          } else {
+            // Half a step to the face, where the trilinear density is half the voxel's.
+            t = 0.5f * step * 0.75f * rho * per_index_unit;
+          }
+        } else {
+          const float rho_next = bilinear(density, na, ib, ic);
+          t = 0.5f * step * (rho + rho_next) * per_index_unit + bilinear(depth, na, ib, ic);
+        }
+        (*tau)[i] = t;
+      }
+}
+
+// Optical depth from every voxel centre straight up (up) and down (down) to
+// the grid's top and bottom faces (trapezoid between voxel centres, half a
+// voxel at 0.75 rho to the face, as sweep_depths).
+void column_depths(const DenseGrid& g, float per_index_unit, std::vector<float>* up, std::vector<float>* down) {
+  up->assign(g.voxel_count(), 0.0f);
+  down->assign(g.voxel_count(), 0.0f);
+  for (int y = 0; y < g.ny; ++y)
+    for (int x = 0; x < g.nx; ++x) {
+      for (int z = g.nz - 1; z >= 0; --z) {
+        const float rho = g.at(x, y, z);
+        (*up)[g.index(x, y, z)] = z == g.nz - 1 ? 0.375f * rho * per_index_unit
+                                                : 0.5f * (rho + g.at(x, y, z + 1)) * per_index_unit +
+                                                      (*up)[g.index(x, y, z + 1)];
+      }
+      for (int z = 0; z < g.nz; ++z) {
+        const float rho = g.at(x, y, z);
+        (*down)[g.index(x, y, z)] = z == 0 ? 0.375f * rho * per_index_unit
+                                           : 0.5f * (rho + g.at(x, y, z - 1)) * per_index_unit +
+                                                 (*down)[g.index(x, y, z - 1)];
+      }
+    }
+}
+
+}  // namespace
+
+void compute_ambient_depths(const CloudVolume& cloud, LightDepths* out, const ContinuingSides& sides) {
   const DenseGrid& g = cloud.density;
   out->nx = g.nx;
   out->ny = g.ny;
   out->nz = g.nz;
   out->tau.assign(g.voxel_count(), glm::vec3(0.0f));
-  const glm::vec3 up = grid_direction(cloud, glm::dvec3(0.0, 0.0, 1.0));
-  for (int z = 0; z < g.nz; ++z)
-    for (int y = 0; y < g.ny; ++y)
-      for (int x = 0; x < g.nx; ++x) {
-        const glm::vec3 p(x + 0.5f, y + 0.5f, z + 0.5f);
-        glm::vec3& t = out->tau[out->index(x, y, z)];
-        t.y = optical_depth_to_exit(cloud, p, up);
-        t.z = optical_depth_to_exit(cloud, p, -up);
-      }
+  out->sides = sides;
+  // Each hemisphere's directions, uniform in solid angle (a spiral of
+  // kAmbientDirections, cos theta at the centres of equal bands), in ENU then
+  // in the grid's axes.
+  const float per_index_unit = cloud.voxel_size_m * cloud.optics.extinction_per_m;
+  std::vector<double> conductance[2];
+  for (auto& v : conductance) v.assign(g.voxel_count(), 0.0);
+  std::vector<float> tau, column_up, column_down;
+  if (sides.any()) column_depths(g, per_index_unit, &column_up, &column_down);
+  for (int h = 0; h < 2; ++h)
+    for (int k = 0; k < kAmbientDirections; ++k) {
+      const double cos_t = 1.0 - (k + 0.5) / kAmbientDirections, sin_t = std::sqrt(1.0 - cos_t * cos_t);
+      const double phi = 2.399963229728653 * k;  // golden angle
+      const glm::dvec3 d_enu(sin_t * std::cos(phi), sin_t * std::sin(phi), h == 0 ? cos_t : -cos_t);
+      sweep_depths(g, grid_direction(cloud, d_enu), per_index_unit, sides, column_up, column_down, &tau);
+      for (size_t i = 0; i < tau.size(); ++i) conductance[h][i] += 1.0 / (1.0 + tau[i] / kAmbientEscapeDepth);
+    }
+  for (size_t i = 0; i < g.voxel_count(); ++i) {
+    const double up_mean = conductance[0][i] / kAmbientDirections, down_mean = conductance[1][i] / kAmbientDirections;
+    out->tau[i].y = static_cast<float>(kAmbientEscapeDepth * (1.0 / up_mean - 1.0));
+    out->tau[i].z = static_cast<float>(kAmbientEscapeDepth * (1.0 / down_mean - 1.0));
+  }
 }
 
 void compute_light_depth_slices(const CloudVolume& cloud, const glm::dvec3& light_dir_enu, int z_begin, int z_end,
@@ -102,7 +238,9 @@ twin::CloudSample march_cloud_ray(const CloudVolume& cloud, const LightDepths& d
   const glm::dquat inv = glm::inverse(cloud.rotation);
   const glm::vec3 origin_index(inv * (eye_enu_m - cloud.origin_enu_m) / static_cast<double>(cloud.voxel_size_m));
   const CpuCloudVolume vol{&cloud.density, &depths};
-  return twin::cloud_march(vol, march, phase, octaves, origin_index, grid_direction(cloud, dir_enu),
+  twin::CloudMarch m = march;
+  m.continuing_sides = continuing_sides_vector(depths.sides);
+  return twin::cloud_march(vol, m, phase, octaves, origin_index, grid_direction(cloud, dir_enu),
                            static_cast<float>(t_max_m));
 }
 

@@ -164,6 +164,45 @@ int sole_instance(const CloudField& field, int prototype) {
   return found;
 }
 
+ContinuingSides continuing_sides(const CloudField& field, int prototype) {
+  ContinuingSides sides;
+  const int self = sole_instance(field, prototype);
+  if (self < 0) return sides;
+  const CloudVolume& vol = field.prototypes[static_cast<size_t>(prototype)];
+  if (vol.density.empty()) return sides;
+  const glm::dvec3 size = grid_size(vol.density);
+  const glm::dmat3 to_enu = glm::mat3_cast(vol.rotation) * static_cast<double>(vol.voxel_size_m);
+  const glm::dvec3 origin = field.instances[static_cast<size_t>(self)].origin_enu_m;
+  auto in_another_grid = [&](const glm::dvec3& p_index) {
+    const glm::dvec3 p = origin + to_enu * p_index;
+    for (size_t i = 0; i < field.instances.size(); ++i) {
+      if (static_cast<int>(i) == self) continue;
+      const CloudInstance& other = field.instances[i];
+      const CloudVolume& v = field.prototypes[static_cast<size_t>(other.prototype)];
+      const glm::dvec3 q = glm::inverse(v.rotation) * (p - other.origin_enu_m) / static_cast<double>(v.voxel_size_m);
+      const glm::dvec3 n = grid_size(v.density);
+      if (q.x >= 0.0 && q.y >= 0.0 && q.z >= 0.0 && q.x < n.x && q.y < n.y && q.z < n.z) return true;
+    }
+    return false;
+  };
+  // Face `axis` (0: x, 1: y) at index `at` (-1 or n + 1): two of three points beyond it in another grid.
+  auto goes_on = [&](int axis, double at) {
+    int hits = 0;
+    for (double f : {0.25, 0.5, 0.75}) {
+      glm::dvec3 p(0.0, 0.0, 0.5 * size.z);
+      p[axis] = at;
+      p[1 - axis] = f * size[1 - axis];
+      hits += in_another_grid(p) ? 1 : 0;
+    }
+    return hits >= 2;
+  };
+  sides.west = goes_on(0, -1.0);
+  sides.east = goes_on(0, size.x + 1.0);
+  sides.south = goes_on(1, -1.0);
+  sides.north = goes_on(1, size.y + 1.0);
+  return sides;
+}
+
 FieldLightPlan plan_field_light(const CloudField& field, int prototype, const glm::dvec3& light_dir_enu,
                                 const FieldLightOptions& options) {
   FieldLightPlan plan;

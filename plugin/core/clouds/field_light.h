@@ -55,6 +55,13 @@ struct FieldLightOptions {
 // The instance that places `prototype`, if exactly one does; -1 otherwise.
 int sole_instance(const CloudField& field, int prototype);
 
+// The side faces of a prototype placed exactly once across which another
+// instance's grid goes on (a deck's neighbouring tiles: points one voxel
+// beyond the face, at a quarter, half and three quarters of its width, mid
+// height, lie in another grid, at least two of the three). For
+// compute_ambient_depths. None for a prototype with several copies.
+ContinuingSides continuing_sides(const CloudField& field, int prototype);
+
 // What one prototype's light rays meet outside its grid, for one light
 // direction: the grids in the way and the exit maps. Refers to the field's
 // prototypes by index (no pointers): pass the same, unchanged field to
