@@ -39,6 +39,7 @@
 #include <glad/gl.h>
 
 #include "cloud_scene.h"
+#include "trivial_pass.h"
 
 namespace {
 
@@ -48,21 +49,6 @@ using cloud_bench::Host;
 constexpr int kWidth = 1280, kHeight = 720;
 constexpr double kStepEastM = 5.0;  // per timed frame
 const Camera kStart{0.0, 0.0, 800.0, 5.0};
-
-GLuint make_program(const char* vs_src, const char* fs_src) {
-  GLuint s1 = glCreateShader(GL_VERTEX_SHADER), s2 = glCreateShader(GL_FRAGMENT_SHADER);
-  glShaderSource(s1, 1, &vs_src, nullptr);
-  glShaderSource(s2, 1, &fs_src, nullptr);
-  glCompileShader(s1);
-  glCompileShader(s2);
-  GLuint program = glCreateProgram();
-  glAttachShader(program, s1);
-  glAttachShader(program, s2);
-  glLinkProgram(program);
-  glDeleteShader(s1);
-  glDeleteShader(s2);
-  return program;
-}
 
 struct World {
   Host host{kWidth, kHeight};
@@ -85,11 +71,7 @@ struct World {
     layer.area_size_m = 40000.0;
     layer.area_centre_enu_m[1] = 25000.0;
     layer.seed = 7;
-    const char* vs_src = "#version 330 core\nvoid main(){vec2 p=vec2((gl_VertexID<<1)&2,gl_VertexID&2);"
-                         "gl_Position=vec4(p*2.0-1.0,0.5,1.0);}";
-    // Colour from the pixel position: a constant colour would let llvmpipe fill tiles without shading.
-    trivial_program =
-        make_program(vs_src, "#version 330 core\nout vec4 c;void main(){c=vec4(gl_FragCoord.xy*1e-3,0.5,1.0);}");
+    trivial_program = bench_gl::make_trivial_program();
     glGenVertexArrays(1, &vao);
     glGenQueries(1, &query);
   }

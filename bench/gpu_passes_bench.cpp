@@ -69,25 +69,11 @@
 #include "core/sky_view_table.h"
 #include "gl/night_renderer.h"
 #include "gl/renderer.h"
+#include "trivial_pass.h"
 
 namespace {
 
 constexpr int kWidth = 1280, kHeight = 720;
-
-GLuint make_program(const char* vs_src, const char* fs_src) {
-  GLuint s1 = glCreateShader(GL_VERTEX_SHADER), s2 = glCreateShader(GL_FRAGMENT_SHADER);
-  glShaderSource(s1, 1, &vs_src, nullptr);
-  glShaderSource(s2, 1, &fs_src, nullptr);
-  glCompileShader(s1);
-  glCompileShader(s2);
-  GLuint program = glCreateProgram();
-  glAttachShader(program, s1);
-  glAttachShader(program, s2);
-  glLinkProgram(program);
-  glDeleteShader(s1);
-  glDeleteShader(s2);
-  return program;
-}
 
 struct World {
   std::unique_ptr<atmo::support::HeadlessGl> gl;
@@ -125,13 +111,9 @@ struct World {
     view_state = atmo::support::example_view_state(kWidth, kHeight, target->depth_texture(), 900.0);
     view->set(view_state);
 
-    const char* vs_src = "#version 330 core\nvoid main(){vec2 p=vec2((gl_VertexID<<1)&2,gl_VertexID&2);"
-                         "gl_Position=vec4(p*2.0-1.0,0.5,1.0);}";
-    // Colour from the pixel position: a constant colour would let llvmpipe fill tiles without shading.
-    trivial_program =
-        make_program(vs_src, "#version 330 core\nout vec4 c;void main(){c=vec4(gl_FragCoord.xy*1e-3,0.5,1.0);}");
-    two_fetch_program = make_program(
-        vs_src,
+    trivial_program = bench_gl::make_trivial_program();
+    two_fetch_program = bench_gl::make_program(
+        bench_gl::kFullScreenVertex,
         "#version 330 core\nuniform sampler3D a;uniform sampler3D b;out vec4 c;void main(){"
         "vec3 p=vec3(gl_FragCoord.xy/vec2(1280.0,720.0),fract(gl_FragCoord.x*1e-3));"
         "c=vec4(texture(a,p).rgb+texture(b,p).rgb,1.0);}");

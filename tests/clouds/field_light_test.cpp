@@ -364,15 +364,21 @@ ErrorStats maps_against_exact(const CloudField& f, const glm::dvec3& light, cons
   return s;
 }
 
-TEST(FieldLight, OvercastDeckAtLowSunHasNoSeams) {
+// A procedural deck between these heights, seed 7.
+constexpr double kDeckBaseM = 600, kDeckTopM = 1100;
+GeneratedLayer deck(CloudLayerType type, int oktas, double area_m) {
   CloudLayerSpec spec;
-  spec.type = CloudLayerType::Overcast;
-  spec.coverage_oktas = 8;
-  spec.base_m = 600;
-  spec.top_m = 1100;
-  spec.area_size_m = 16000;
+  spec.type = type;
+  spec.coverage_oktas = oktas;
+  spec.base_m = kDeckBaseM;
+  spec.top_m = kDeckTopM;
+  spec.area_size_m = area_m;
   spec.seed = 7;
-  const GeneratedLayer layer = generate_cloud_layer(spec);
+  return generate_cloud_layer(spec);
+}
+
+TEST(FieldLight, OvercastDeckAtLowSunHasNoSeams) {
+  const GeneratedLayer layer = deck(CloudLayerType::Overcast, 8, 16000);
   const CloudField& f = layer.field;
   size_t voxels = 0;
   for (const CloudVolume& v : f.prototypes) voxels += v.density.voxel_count();
@@ -421,7 +427,7 @@ TEST(FieldLight, OvercastDeckAtLowSunHasNoSeams) {
       const glm::dvec3 p = in.origin_enu_m + glm::dvec3(x + 0.5, y + 0.5, z + 0.5) * v;
       double ref = 0;
       const double ds = 0.25 * v;
-      for (double t = 0.5 * ds; p.z + light.z * t < spec.top_m + 2 * v; t += ds) ref += field_density_at(f, p + light * t);
+      for (double t = 0.5 * ds; p.z + light.z * t < kDeckTopM + 2 * v; t += ds) ref += field_density_at(f, p + light * t);
       ref *= ds * ext;
       const double got = d[in.prototype].tau[d[in.prototype].index(x, y, z)].x;
       worst = std::max(worst, std::abs(got - ref) / std::max(ref, 1.0));
@@ -441,14 +447,7 @@ TEST(FieldLight, OvercastDeckAtLowSunHasNoSeams) {
 
 // Real holes: a 5-okta stratus deck, 12 km, at 2 and 10 degrees.
 TEST(FieldLight, StratusWithHolesAgainstTheExactMarch) {
-  CloudLayerSpec spec;
-  spec.type = CloudLayerType::Stratus;
-  spec.coverage_oktas = 5;
-  spec.base_m = 600;
-  spec.top_m = 1100;
-  spec.area_size_m = 12000;
-  spec.seed = 7;
-  const GeneratedLayer layer = generate_cloud_layer(spec);
+  const GeneratedLayer layer = deck(CloudLayerType::Stratus, 5, 12000);
   ASSERT_GT(layer.field.prototypes.size(), 4u);
   for (double elevation : {2.0, 10.0}) {
     const glm::dvec3 light = light_from(elevation, 30.0);

@@ -45,6 +45,7 @@
 #include <vector>
 
 #include "cloud_path_tracer.h"
+#include "reference_clouds.h"
 #include "core/clouds/cloud_lighting.h"
 #include "core/clouds/cloud_optics.h"
 #include "core/clouds/procedural_clouds.h"
@@ -57,26 +58,7 @@ using namespace atmo::clouds;
 // The clouds and the views (their stored references depend on every number
 // here: change one and regenerate).
 
-// A cumulus-like blob: a flattened sphere with a flat base and noisy edges,
-// 600 m across at 20 m voxels, peak optical depth through the centre ~20.
-CloudVolume blob() {
-  CloudVolume c;
-  c.name = "blob";
-  c.voxel_size_m = 20.0f;
-  const int n = 32;
-  c.density = DenseGrid(n, n, n);
-  for (int z = 1; z < n - 1; ++z)
-    for (int y = 1; y < n - 1; ++y)
-      for (int x = 1; x < n - 1; ++x) {
-        const glm::vec3 p = (glm::vec3(x, y, z) + 0.5f - 0.5f * n) / (0.5f * n - 1.5f);
-        const float r = glm::length(glm::vec3(p.x, p.y, p.z * 1.3f + 0.25f));
-        const float wobble = 0.12f * std::sin(7.0f * p.x) * std::sin(5.0f * p.y + 1.0f) * std::cos(6.0f * p.z);
-        const float d = std::clamp((1.0f - r + wobble) * 4.0f, 0.0f, 1.0f);
-        c.density.at(x, y, z) = z > 4 ? d : 0.0f;
-      }
-  c.optics.extinction_per_m = 0.06f;
-  return c;
-}
+using reference::blob_cloud;  // reference_clouds.h
 
 // Prototype `index` of a procedural cumulus layer (seed 7, 1000-1800 m,
 // voxels <= 30 m), at the origin, with extinction `extinction_per_m`.
@@ -147,13 +129,13 @@ CloudVolume stratus_tile(int index, float extinction_per_m) {
 const std::vector<View>& development_views() {
   static const auto cu3 = [] { return cumulus_prototype(3, 0.06f); };
   static const std::vector<View> v = {
-      {"blob_eyesun", "blob, Sun behind the eye, 45 deg up", blob, glm::normalize(glm::dvec3(0, -1, 1)),
+      {"blob_eyesun", "blob, Sun behind the eye, 45 deg up", blob_cloud, glm::normalize(glm::dvec3(0, -1, 1)),
        glm::dvec3(0, -2000, 0)},
-      {"blob_side", "blob, Sun to the side, 30 deg up", blob, glm::normalize(glm::dvec3(1, 0, 0.58)),
+      {"blob_side", "blob, Sun to the side, 30 deg up", blob_cloud, glm::normalize(glm::dvec3(1, 0, 0.58)),
        glm::dvec3(0, -2000, 0)},
-      {"blob_behind", "blob, Sun behind it, 20 deg up", blob, glm::normalize(glm::dvec3(0, 1, 0.36)),
+      {"blob_behind", "blob, Sun behind it, 20 deg up", blob_cloud, glm::normalize(glm::dvec3(0, 1, 0.36)),
        glm::dvec3(0, -2000, 0)},
-      {"blob_below", "blob from below, Sun overhead", blob, glm::dvec3(0, 0, 1), glm::dvec3(0, -300, -1500)},
+      {"blob_below", "blob from below, Sun overhead", blob_cloud, glm::dvec3(0, 0, 1), glm::dvec3(0, -300, -1500)},
       {"cu0_side", "cumulus #0, Sun to the side, 45 deg up", [] { return cumulus_prototype(0, 0.06f); },
        sun_at(45, 90), glm::dvec3(0, -2000, 300)},
       {"cu_front", "cumulus #3, Sun high behind the eye", cu3, sun_at(60, 200), glm::dvec3(300, -2200, 200)},

@@ -23,14 +23,13 @@
 #include <string>
 #include <vector>
 
-#include "atmo_support/headless_gl.h"
 #include "atmo_support/offscreen_target.h"
 #include "core/clouds/cloud_optics.h"
 #include "gl/shader_program.h"
+#include "../support/gl_test_util.h"
 
 namespace {
 
-using atmo::support::HeadlessGl;
 using atmo::support::Image;
 using atmo::support::OffscreenTarget;
 namespace clouds = atmo::clouds;
@@ -65,12 +64,12 @@ void main() {
 }
 )";
 
-class CloudFunctionsGl : public ::testing::Test {
+class CloudFunctionsGl : public GlTest {
  protected:
   void SetUp() override {
+    GlTest::SetUp();
+    if (HasFatalFailure()) return;
     std::string error;
-    gl_ = HeadlessGl::create(HeadlessGl::Profile::Core, &error);
-    ASSERT_NE(gl_, nullptr) << error;
     target_ = OffscreenTarget::create(kSize, kSize, &error);
     ASSERT_NE(target_, nullptr) << error;
     program_ = atmo::gl::build_program("fullscreen.vert", "clouds/cloud_functions.glsl",
@@ -135,7 +134,6 @@ class CloudFunctionsGl : public ::testing::Test {
     return target_->read_color();
   }
 
-  std::unique_ptr<HeadlessGl> gl_;
   std::unique_ptr<OffscreenTarget> target_;
   GLuint program_ = 0, vao_ = 0;
   GLuint textures_[2] = {0, 0};
