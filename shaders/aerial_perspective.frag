@@ -20,9 +20,10 @@ void main() {
 #if ATMO_METHOD == METHOD_MARCH
   {
     vec3 dir = normalize(u_enu_from_view * (p.xyz / max(distance_m, 1e-6f)));
-    ScatteringResult s = integrate_scattering(u_atmosphere, u_transmittance, u_transmittance_size,
+    ScatteringResult s = integrate_scattering_shadowed(u_atmosphere, u_transmittance, u_transmittance_size,
                                               u_multiple_scattering, u_multiple_scattering_size, u_eye_altitude_m, dir,
-                                              u_sun_direction_enu, distance_m, u_steps);
+                                              u_sun_direction_enu, distance_m, u_steps, u_cloud_shadowing,
+                                              u_cloud_shadow);
     inscattered = s.inscattered;
     transmittance = s.transmittance;
   }

@@ -16,9 +16,10 @@ void main() {
   vec2 ndc = gl_FragCoord.xy / u_aerial_grid * 2.0f - 1.0f;
   vec3 dir = normalize(u_enu_from_view * view_ray_from_ndc(u_view_from_clip, ndc, u_depth_convention));
   float distance_m = atmo_aerial_slice_distance(u_slice, u_aerial_slices, u_aerial_range_m);
-  ScatteringResult s = integrate_scattering(u_atmosphere, u_transmittance, u_transmittance_size,
+  ScatteringResult s = integrate_scattering_shadowed(u_atmosphere, u_transmittance, u_transmittance_size,
                                             u_multiple_scattering, u_multiple_scattering_size, u_eye_altitude_m, dir,
-                                            u_sun_direction_enu, distance_m, u_steps);
+                                            u_sun_direction_enu, distance_m, u_steps, u_cloud_shadowing,
+                                            u_cloud_shadow);
   out_inscattered = vec4(s.inscattered, 1.0f);
   out_transmittance = vec4(s.transmittance, 1.0f);
 }

@@ -202,6 +202,13 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
   for (const clouds::CloudInstance& i : c.field.instances)
     c.mean_centre_height_m += c.field.prototypes[static_cast<size_t>(i.prototype)].centre_at(i.origin_enu_m).z;
   c.mean_centre_height_m /= static_cast<double>(std::max<size_t>(1, c.field.instances.size()));
+  c.lowest_base_m = c.field.instances.empty() ? 0.0 : 1e300;
+  c.highest_top_m = c.field.instances.empty() ? 0.0 : -1e300;
+  for (const clouds::CloudInstance& i : c.field.instances) {  // grids turn only about the vertical
+    const clouds::CloudVolume& v = c.field.prototypes[static_cast<size_t>(i.prototype)];
+    c.lowest_base_m = std::min(c.lowest_base_m, i.origin_enu_m.z);
+    c.highest_top_m = std::max(c.highest_top_m, i.origin_enu_m.z + double(v.density.nz) * v.voxel_size_m);
+  }
   c.depths.resize(c.field.prototypes.size());
   for (size_t p = 0; p < c.field.prototypes.size(); ++p)
     clouds::compute_ambient_depths(c.field.prototypes[p], &c.depths[p],

@@ -51,6 +51,7 @@ struct ContextClouds {
   glm::dvec3 origin_ecef_m{0.0};
   glm::dmat3 ecef_from_enu{1.0};
   double mean_centre_height_m = 0.0;         // of the clouds' centres, above origin: where the light is taken
+  double lowest_base_m = 0.0, highest_top_m = 0.0;  // of the grids' boxes, above origin (the sky passes' shadow)
   CloudSettings settings;
   double relight_ms = 0.0;                   // the last relight, for logs and benchmarks
   // The shadow map (get_cloud_shadows): made once a host asks, then with every relight.

@@ -342,6 +342,34 @@ AtmoResult night_sky_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core
 AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core::Scene& scene,
                        const atmo::gl::PassInputs& inputs);
 
+// The clouds' shadow on the sunlit air for the sky and aerial-perspective
+// passes (functions.glsl CloudShadowing): the map of get_cloud_shadows, made
+// on the first such pass and kept by the relights, when there are clouds and
+// the Sun lights them (under the Moon the map is the Moon's; the sky's Sun
+// term is left alone). False and *error on a GL failure.
+bool add_cloud_shadow(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core::Scene& scene,
+                      atmo::gl::PassInputs* inputs, std::string* error) {
+  atmo::abi::ContextClouds& c = ctx->clouds;
+  if (c.empty()) return true;  // no clouds: no cost
+  const glm::dvec3 light = atmo::abi::cloud_light(ctx, view, scene).direction_enu;
+  const glm::dmat3 clouds_from_eye_axes = atmo::abi::cloud_enu_from_eye_enu(c, view->eye.ecef_from_enu);
+  if (glm::dot(clouds_from_eye_axes * scene.sun_direction_enu, light) < std::cos(0.5 * M_PI / 180.0)) return true;
+  atmo::abi::relight_clouds(&c, light);
+  atmo::abi::update_cloud_shadow(&c);
+  GLuint texture = 0;
+  if (!ctx->cloud_renderer.shadow_texture(c.shadow, c.field_version, c.shadow_version, &texture, error)) return false;
+  if (!texture) return true;  // the light is too low for any map
+  // A point relative to the eye (its ENU axes) -> the clouds' ENU -> (u, v, height).
+  glm::dmat4 clouds_from_eye(clouds_from_eye_axes);
+  clouds_from_eye[3] = glm::dvec4(atmo::abi::eye_in_cloud_frame(c, view->eye.eye_ecef_m), 1.0);
+  inputs->cloud_shadow.texture = texture;
+  inputs->cloud_shadow.uv_from_eye_enu = glm::mat4(atmo::clouds::cloud_shadow_uvz_from(c.shadow, clouds_from_eye));
+  inputs->cloud_shadow.base_m = static_cast<float>(c.lowest_base_m);
+  inputs->cloud_shadow.top_m = static_cast<float>(c.highest_top_m);
+  inputs->cloud_shadow.version = (c.field_version << 32) ^ c.shadow_version;
+  return true;
+}
+
 AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
   AtmoView_T* view = live_view(view_handle, "render_pass");
   if (!view) return ATMO_ERROR_INVALID_HANDLE;
@@ -397,6 +425,9 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
       ctx->uploaded_lut_version = ctx->lut_version;
     }
     std::string error;
+    if ((pass.pass == ATMO_PASS_SKY || pass.pass == ATMO_PASS_AERIAL_PERSPECTIVE || pass.pass == ATMO_PASS_CLOUDS) &&
+        !add_cloud_shadow(ctx, view, scene, &inputs, &error))
+      return fail(ctx, ATMO_ERROR_GL, "render_pass", error);
     if (pass.pass == ATMO_PASS_NIGHT_SKY) return night_sky_pass(ctx, view, scene, inputs);
     if (pass.pass == ATMO_PASS_CLOUDS) return clouds_pass(ctx, view, scene, inputs);
     bool ok = pass.pass == ATMO_PASS_SKY ? ctx->renderer.draw_sky(inputs, &error)

@@ -37,6 +37,11 @@ PassUniforms locate_pass_uniforms(GLuint program) {
   const char* preetham_names[6] = {"u_preetham.A", "u_preetham.B", "u_preetham.C",
                                    "u_preetham.D", "u_preetham.E", "u_preetham.zenith_Yxy"};
   for (int i = 0; i < 6; ++i) u.preetham[i] = loc(preetham_names[i]);
+  u.cloud_shadow = loc("u_cloud_shadow");
+  u.cloud_uv_from_eye = loc("u_cloud_shadowing.uv_from_eye_enu");
+  u.cloud_base = loc("u_cloud_shadowing.base_m");
+  u.cloud_top = loc("u_cloud_shadowing.top_m");
+  u.cloud_enabled = loc("u_cloud_shadowing.enabled");
   u.night = locate_night_term_uniforms(program);
   return u;
 }
@@ -73,6 +78,11 @@ void set_pass_uniforms(const PassUniforms& u, const PassInputs& in, const PassTa
                            &in.preetham.D, &in.preetham.E, &in.preetham.zenith_Yxy};
   for (int i = 0; i < 6; ++i) glUniform3fv(u.preetham[i], 1, glm::value_ptr(*c[i]));
   set_night_term_uniforms(u.night, night, sizes.moon_sky_scale);
+  glUniform1i(u.cloud_shadow, static_cast<GLint>(kCloudShadowUnit));
+  glUniformMatrix4fv(u.cloud_uv_from_eye, 1, GL_FALSE, glm::value_ptr(in.cloud_shadow.uv_from_eye_enu));
+  glUniform1f(u.cloud_base, in.cloud_shadow.base_m);
+  glUniform1f(u.cloud_top, in.cloud_shadow.top_m);
+  glUniform1i(u.cloud_enabled, in.cloud_shadow.texture != 0 ? 1 : 0);
 }
 
 void create_pass_samplers(GLuint* linear, GLuint* nearest) {

@@ -24,7 +24,8 @@ constexpr GLuint kSkyViewUnit = 3;
 constexpr GLuint kAerialInscatterUnit = 4;
 constexpr GLuint kAerialTransmittanceUnit = 5;
 static_assert(kMoonSkyViewUnit == 6, "the moonlit sky-view table follows the aerial volume's units");
-constexpr int kPassUnitsUsed = static_cast<int>(kMoonSkyViewUnit) + 1;
+constexpr GLuint kCloudShadowUnit = kMoonSkyViewUnit + 1;  // the clouds' shadow map (PassInputs::cloud_shadow)
+constexpr int kPassUnitsUsed = static_cast<int>(kCloudShadowUnit) + 1;
 
 struct PassUniforms {
   // Locations (-1 where a program does not use a uniform).
@@ -35,6 +36,7 @@ struct PassUniforms {
         output_encoding = -1, steps = -1, sky_view = -1, sky_view_size = -1, aerial_inscatter = -1,
         aerial_transmittance = -1, aerial_range = -1, aerial_slices = -1, analytic_weight = -1;
   GLint preetham[6] = {-1, -1, -1, -1, -1, -1};
+  GLint cloud_shadow = -1, cloud_uv_from_eye = -1, cloud_base = -1, cloud_top = -1, cloud_enabled = -1;
   NightTermUniforms night;
 };
 

@@ -164,7 +164,7 @@ void Renderer::set_uniforms(const Program& p, const PassInputs& in, int steps) c
   glUniform1f(p.sin_sun_elevation, in.sun_direction_enu.z);
 }
 
-void Renderer::bind_textures(GLuint depth_texture) const {
+void Renderer::bind_textures(GLuint depth_texture, GLuint cloud_shadow_texture) const {
   auto bind = [](GLuint unit, GLenum target, GLuint texture, GLuint sampler) {
     glActiveTexture(GL_TEXTURE0 + unit);
     glBindTexture(target, texture);
@@ -177,6 +177,7 @@ void Renderer::bind_textures(GLuint depth_texture) const {
   bind(kAerialInscatterUnit, GL_TEXTURE_3D, aerial_inscatter_texture_, linear_sampler_);
   bind(kAerialTransmittanceUnit, GL_TEXTURE_3D, aerial_transmittance_texture_, linear_sampler_);
   bind(kMoonSkyViewUnit, GL_TEXTURE_2D, moon_sky_view_texture_, linear_sampler_);
+  bind(kCloudShadowUnit, GL_TEXTURE_2D, cloud_shadow_texture, linear_sampler_);
 }
 
 void Renderer::render_sky_view(const PassInputs& in, GLuint texture) {
@@ -191,7 +192,7 @@ void Renderer::render_sky_view(const PassInputs& in, GLuint texture) {
   glViewport(0, 0, settings_.sky_view_width, settings_.sky_view_height);
   glUseProgram(sky_view_builder_.program);
   set_uniforms(sky_view_builder_, in, settings_.sky_view_steps);
-  bind_textures(0);
+  bind_textures(0, 0);
   glBindVertexArray(vao_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
 }
@@ -253,6 +254,11 @@ bool Renderer::ensure_aerial_volume(const PassInputs& in, std::string* error) {
   append_key(&key, in.view_from_clip);
   append_key(&key, in.depth_convention);
   append_key(&key, in.aerial_range_m);
+  append_key(&key, in.cloud_shadow.texture);  // field by field: the struct has padding
+  append_key(&key, in.cloud_shadow.version);
+  append_key(&key, in.cloud_shadow.uv_from_eye_enu);
+  append_key(&key, in.cloud_shadow.base_m);
+  append_key(&key, in.cloud_shadow.top_m);
   if (derived_allocated_ && key == aerial_key_) return true;
   {
     GlStateGuard guard(kUnitsUsed);
@@ -266,7 +272,7 @@ bool Renderer::ensure_aerial_volume(const PassInputs& in, std::string* error) {
     glViewport(0, 0, settings_.aerial_width, settings_.aerial_height);
     glUseProgram(aerial_volume_builder_.program);
     set_uniforms(aerial_volume_builder_, in, settings_.aerial_steps);
-    bind_textures(0);
+    bind_textures(0, in.cloud_shadow.texture);
     glBindVertexArray(vao_);
     for (int k = 0; k < settings_.aerial_slices; ++k) {
       glFramebufferTextureLayer(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, aerial_inscatter_texture_, 0, k);
@@ -288,7 +294,7 @@ bool Renderer::draw(const Program& p, const PassInputs& in, int steps, bool dual
     guard.use_single_draw_buffer();
     glUseProgram(p.program);
     set_uniforms(p, in, steps);
-    bind_textures(in.depth_texture);
+    bind_textures(in.depth_texture, in.cloud_shadow.texture);
     glViewport(in.viewport[0], in.viewport[1], in.viewport[2], in.viewport[3]);
     GLint scissor_box[4] = {0, 0, 0, 0};  // the guard restores the enable, not the box
     if (scissor) {
@@ -403,7 +409,7 @@ bool Renderer::prepare_pass_tables(const PassUniforms& uniforms, const PassInput
   const PassTableSizes sizes{transmittance_size_, multiple_scattering_size_,
                              glm::vec2(settings_.sky_view_width, settings_.sky_view_height), moon_sky_scale_};
   set_pass_uniforms(uniforms, in, sizes, settings_.march_aerial_steps, NightTerms{});
-  bind_textures(in.depth_texture);
+  bind_textures(in.depth_texture, in.cloud_shadow.texture);
   return true;
 }
 

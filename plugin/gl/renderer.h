@@ -63,6 +63,18 @@ struct NightTerms {
   int bits() const { return (moonlit_sky ? 1 : 0) | (moon_disc ? 2 : 0) | (background ? 4 : 0); }
 };
 
+// The clouds' shadow map as the sky passes use it (functions.glsl
+// CloudShadowing): the texture (R16F; 0: no clouds, or not of the Sun), the
+// map from a point relative to the eye (its ENU, m) to (u, v, height in the
+// clouds' frame m), the clouds' lowest base and highest top in that height,
+// and a version that changes with the map (the aerial volume is rebuilt).
+struct CloudShadowPass {
+  GLuint texture = 0;
+  glm::mat4 uv_from_eye_enu{1.0f};
+  float base_m = 0.0f, top_m = 0.0f;
+  uint64_t version = 0;
+};
+
 struct PassInputs {
   twin::AtmosphereParameters atmosphere;
   glm::vec3 sun_direction_enu{0.0f, 0.0f, 1.0f};
@@ -82,6 +94,7 @@ struct PassInputs {
   float analytic_weight = 0.0f;              // ANALYTIC only: Preetham's confidence
   LutSettings lut;                           // table sizes for this view
   NightTerms night;                          // the sky pass's night terms (and the point pass's sky under a star)
+  CloudShadowPass cloud_shadow;              // the clouds' shadow on the sunlit air (texture 0: none)
 };
 
 // The tables the pass samples; names owned by the caller (the Renderer).
@@ -156,7 +169,7 @@ class Renderer {
   // night_terms: the ATMO_NIGHT_TERMS bits of sky_pixel.glsl's variant (sky.frag only).
   bool build(Program* p, const char* fragment_path, SkyMethod method, std::string* error, int night_terms = 0);
   void set_uniforms(const Program& p, const PassInputs& in, int steps) const;
-  void bind_textures(GLuint depth_texture) const;
+  void bind_textures(GLuint depth_texture, GLuint cloud_shadow_texture) const;
   // scissor: x, y, width, height in window pixels, or null for the whole viewport.
   bool draw(const Program& p, const PassInputs& in, int steps, bool dual_source_blend, std::string* error,
             const int* scissor = nullptr);

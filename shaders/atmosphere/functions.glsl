@@ -235,13 +235,63 @@ ATMO_FN vec3 step_transmittance_integral(IN(vec3) sigma_t, float dt, IN(vec3) st
   return dt * mix(exact, series, lessThan(x, vec3(1e-3f)));
 }
 
+// --- The clouds' shadow on the air -----------------------------------------
+// The clouds' shadow map (core/clouds/cloud_shadow.h: the direct
+// transmittance of every cloud between a point of the clouds' ground plane
+// and the Sun, looked up by sliding a point along the light onto that plane)
+// darkens the sunlit air below the clouds: haze under an overcast, shafts
+// between cumulus. The map is made for points below the clouds; within the
+// layer the shadow fades out linearly from the lowest base to the highest
+// top, above it there is none.
+struct CloudShadowing {
+  mat4 uv_from_eye_enu;  // a point (m, the eye's ENU: dir * t) -> (u, v, height in the clouds' frame m, 1)
+  float base_m;          // the clouds' lowest base, that height
+  float top_m;           // their highest top
+  int enabled;           // 0: no clouds, or the map is not of the Sun
+};
+
+ATMO_FN CloudShadowing no_cloud_shadowing() {
+  CloudShadowing cs;
+  cs.uv_from_eye_enu = mat4(1.0f);
+  cs.base_m = 0.0f;
+  cs.top_m = 0.0f;
+  cs.enabled = 0;
+  return cs;
+}
+
+// The Sun's direct light at `p` relative to the eye (ENU m) passed by the
+// clouds, [0, 1]: 1 off the map, above the clouds or when disabled.
+ATMO_FN float cloud_shadowing_at(IN(CloudShadowing) cs, LUT2D map, IN(vec3) p) {
+  if (cs.enabled == 0) return 1.0f;
+  vec4 q = cs.uv_from_eye_enu * vec4(p, 1.0f);
+  if (q.z >= cs.top_m || q.x < 0.0f || q.y < 0.0f || q.x > 1.0f || q.y > 1.0f) return 1.0f;
+  float t = sample_lut(map, vec2(q.x, q.y)).r;
+  float within = clamp((q.z - cs.base_m) / max(cs.top_m - cs.base_m, 1.0f), 0.0f, 1.0f);
+  return mix(t, 1.0f, within);
+}
+
+// The share of the light a cloud passes diffusely, given its direct
+// transmittance: a conservative two-stream slab of optical depth tau =
+// -ln(direct) and droplet asymmetry 0.85 lets 1 / (1 + 0.75 (1 - 0.85) tau)
+// through (Bohren 1987). The map's half floats stop at 4.9e-4 (tau 7.6), so a
+// deck thicker than that reads as 0.54.
+ATMO_FN float cloud_diffuse_transmission(float direct) {
+  return 1.0f / (1.0f + 0.1125f * -log(max(direct, 1e-6f)));
+}
+
 // Integrates scattered light (single scattering of Rayleigh + Mie with their
 // phase functions, plus the isotropic multiple-scattering term sigma_s * Psi_ms)
 // from the eye along `dir` over [0, max_distance] clipped to the atmosphere,
 // with `steps` samples placed denser near the eye. Eye altitude in metres.
-ATMO_FN ScatteringResult integrate_scattering(IN(AtmosphereParameters) atm, LUT2D lut, IN(vec2) lut_size,
-                                              LUT2D ms_lut, IN(vec2) ms_size, float eye_altitude_m, IN(vec3) dir,
-                                              IN(vec3) sun_dir, float max_distance, int steps) {
+// The clouds' shadow at each sample (cs, map) scales the Sun's single
+// scattering by the clouds' direct transmittance, and the air's multiple
+// scattering by their diffuse transmission (cloud_diffuse_transmission): the
+// diffuse light under a deck, which its base sends down, stands in for the
+// sky's.
+ATMO_FN ScatteringResult integrate_scattering_shadowed(IN(AtmosphereParameters) atm, LUT2D lut, IN(vec2) lut_size,
+                                                       LUT2D ms_lut, IN(vec2) ms_size, float eye_altitude_m,
+                                                       IN(vec3) dir, IN(vec3) sun_dir, float max_distance, int steps,
+                                                       IN(CloudShadowing) cs, LUT2D map) {
   ScatteringResult result;
   result.inscattered = vec3(0.0f);
   result.transmittance = vec3(1.0f);
@@ -293,13 +343,22 @@ ATMO_FN ScatteringResult integrate_scattering(IN(AtmosphereParameters) atm, LUT2
     vec3 scatter = atm.rayleigh_scattering * (rd * phase_r) + atm.mie_scattering * (md * phase_m);
     vec3 sigma_s = atm.rayleigh_scattering * rd + atm.mie_scattering * md;
     vec3 psi_ms = sample_lut(ms_lut, multiple_scattering_uv(atm, r, mu_s, ms_size));
-    result.inscattered += transmittance * (t_sun * scatter + sigma_s * psi_ms) *
+    float direct = cloud_shadowing_at(cs, map, dir * t);
+    result.inscattered += transmittance * (direct * t_sun * scatter + cloud_diffuse_transmission(direct) * sigma_s * psi_ms) *
                           step_transmittance_integral(sigma_t, dt, step_transmittance);
     transmittance *= step_transmittance;
   }
   result.transmittance = transmittance;
   result.inscattered *= atm.sun_illuminance_lux;
   return result;
+}
+
+// integrate_scattering_shadowed without clouds.
+ATMO_FN ScatteringResult integrate_scattering(IN(AtmosphereParameters) atm, LUT2D lut, IN(vec2) lut_size,
+                                              LUT2D ms_lut, IN(vec2) ms_size, float eye_altitude_m, IN(vec3) dir,
+                                              IN(vec3) sun_dir, float max_distance, int steps) {
+  return integrate_scattering_shadowed(atm, lut, lut_size, ms_lut, ms_size, eye_altitude_m, dir, sun_dir,
+                                       max_distance, steps, no_cloud_shadowing(), lut);
 }
 
 // Radiance of the Lambertian ground seen at distance t_ground along dir, lit by

@@ -46,6 +46,8 @@ uniform float u_aerial_range_m;
 uniform int u_aerial_slices;
 uniform PreethamCoefficients u_preetham;  // zenith luminance already calibrated to the LUT tier
 uniform float u_analytic_weight;          // Preetham's confidence, 0..1
+uniform CloudShadowing u_cloud_shadowing;  // the clouds' shadow on the air (aerial volume, march tier)
+uniform sampler2D u_cloud_shadow;          // its map (R16F direct transmittance)
 
 vec2 ndc_xy() { return (gl_FragCoord.xy - u_viewport.xy) / u_viewport.zw * 2.0f - 1.0f; }
 

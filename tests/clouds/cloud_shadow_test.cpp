@@ -5,12 +5,16 @@
 // shadows to (near) black.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
 
 #include "core/clouds/cloud_shadow.h"
 #include "core/clouds/procedural_clouds.h"
+#include "core/shader_twin.h"
+
+#include <glm/gtc/matrix_transform.hpp>
 
 namespace {
 
@@ -102,6 +106,47 @@ TEST(CloudShadow, AnOvercastDeckShadowsTheGround) {
   std::printf("under the deck's centre: direct transmittance %.2e\n", t);
   EXPECT_LT(t, 1e-3);
   EXPECT_GE(t, 0.0);
+}
+
+// The sky passes' lookup (functions.glsl cloud_shadowing_at, its C++ twin)
+// through cloud_shadow_uvz_from, for points given relative to an eye in a
+// turned and shifted frame, against sample_cloud_shadow at the same points in
+// the clouds' frame: equal below the clouds, 1 above them, a linear fade
+// between base and top.
+TEST(CloudShadow, TheSkyPassesLookupIsTheMapsOwn) {
+  const CloudField f = cumulus_field();
+  const CloudShadowMap map = compute_cloud_shadow_map(f, light(40.0, 150.0), 128);
+  atmo::twin::Lut2D lut;
+  lut.width = lut.height = map.size;
+  for (float t : map.transmittance) lut.texels.push_back(glm::vec3(t));
+  // The eye's frame: turned 30 degrees about the vertical, 2 km east of the clouds' origin, 300 m up.
+  glm::dmat4 clouds_from_eye(glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(30.0), glm::dvec3(0, 0, 1))));
+  clouds_from_eye[3] = glm::dvec4(2000.0, 0.0, 300.0, 1.0);
+  atmo::twin::CloudShadowing cs;
+  cs.uv_from_eye_enu = glm::mat4(cloud_shadow_uvz_from(map, clouds_from_eye));
+  cs.base_m = 1000.0f;
+  cs.top_m = 2000.0f;
+  cs.enabled = 1;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> across(-4000.0, 4000.0), up(-300.0, 2500.0);
+  double worst = 0.0;
+  int shadowed = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const glm::dvec3 p_eye(across(rng), across(rng), up(rng));
+    const glm::dvec3 p = glm::dvec3(clouds_from_eye * glm::dvec4(p_eye, 1.0));
+    const double below = sample_cloud_shadow(map, p);
+    const double within = std::clamp((p.z - 1000.0) / 1000.0, 0.0, 1.0);
+    const double expected = p.z >= 2000.0 ? 1.0 : below + (1.0 - below) * within;
+    const double got = atmo::twin::cloud_shadowing_at(cs, lut, glm::vec3(p_eye));
+    worst = std::max(worst, std::abs(got - expected));
+    shadowed += expected < 0.5 ? 1 : 0;
+  }
+  std::printf("sky passes' shadow lookup against the map's: worst |difference| %.2e (%d of 2000 points in shadow)\n",
+              worst, shadowed);
+  EXPECT_LT(worst, 2e-3);  // float matrix and texel weights against double
+  EXPECT_GT(shadowed, 20);
+  cs.enabled = 0;
+  EXPECT_EQ(atmo::twin::cloud_shadowing_at(cs, lut, glm::vec3(0.0f)), 1.0f);
 }
 
 }  // namespace

@@ -224,3 +224,61 @@ TEST(CloudsPass, SunCrossingTheHorizon) {
 }
 
 }  // namespace
+
+// The sky passes use the clouds' shadow map: the sunlit haze in front of the
+// host's geometry (20 km away, the aerial-perspective pass over black, so
+// the image is the in-scattered light alone) darkens under an overcast deck
+// (the Sun's single scattering goes, the air's multiple scattering keeps the
+// deck's diffuse transmission), and is left as it is when the same deck lies
+// far from the view.
+TEST(CloudsPass, TheHazeUnderAnOvercastDeckIsInItsShadow) {
+  Fixture f;
+  const GLuint depth = atmo::support::make_split_depth_texture(kWidth, kHeight, 0.99995f);
+  auto haze = [&](const AtmoCloudLayer* layer) {
+    if (layer) {
+      const AtmoCloudsState s = clouds_at_innsbruck(layer, 1);
+      EXPECT_EQ(raw_set_clouds(f, s), ATMO_SUCCESS) << f.context->last_error();
+    } else {
+      AtmoCloudsState none = clouds_at_innsbruck(nullptr, 0);
+      EXPECT_EQ(raw_set_clouds(f, none), ATMO_SUCCESS);
+    }
+    auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+    frame.utc_posix_s = 1718964000.0;  // 2024-06-21T10:00Z: the Sun ~60 deg up
+    f.context->set_frame(frame);
+    const glm::dmat4 proj = glm::perspective(glm::radians(60.0), double(kWidth) / kHeight, 1.0, 1e5);
+    AtmoViewState vs = innsbruck_view(300.0, 0.0, 0.0, proj);
+    vs.depth_texture = depth;
+    f.view->set(vs);
+    f.target->bind();
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT);
+    EXPECT_EQ(f.view->render(ATMO_PASS_AERIAL_PERSPECTIVE), ATMO_SUCCESS) << f.context->last_error();
+    glFinish();
+    const atmo::support::Image img = f.target->read_color();
+    EXPECT_EQ(count_bad(img), 0u);
+    double sum = 0.0;
+    int n = 0;
+    for (int y = img.height / 2 + 2; y < img.height; ++y)  // the lower half: the geometry (read_color's row 0 is the top)
+      for (int x = 0; x < img.width; ++x, ++n) sum += atmo::support::luminance(img.pixel(x, y));
+    return sum / n;
+  };
+  AtmoCloudLayer deck = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
+  deck.type = ATMO_CLOUD_OVERCAST;
+  deck.coverage_oktas = 8;
+  deck.base_m = 600.0;
+  deck.top_m = 1100.0;
+  deck.area_size_m = 46000.0;
+  deck.seed = 2;
+  const double clear = haze(nullptr);
+  const double under = haze(&deck);
+  deck.area_centre_enu_m[0] = -150000.0;  // the same deck 150 km west, its shadow off the view
+  const double elsewhere = haze(&deck);
+  std::printf("haze over geometry 20 km away (cd/m^2): clear %.1f, under an overcast %.2f (%.4f of clear), "
+              "the deck 150 km away %.1f (%.5f)\n",
+              clear, under, under / clear, elsewhere, elsewhere / clear);
+  EXPECT_GT(clear, 100.0);
+  EXPECT_LT(under, 0.3 * clear);
+  EXPECT_GT(under, 0.01 * clear);  // the deck's diffuse light
+  EXPECT_NEAR(elsewhere / clear, 1.0, 1e-3);
+  glDeleteTextures(1, &depth);
+}

@@ -94,6 +94,12 @@ CloudShadowMap compute_cloud_shadow_map(const CloudField& field, const glm::dvec
   return map;
 }
 
+glm::dmat4 cloud_shadow_uvz_from(const CloudShadowMap& map, const glm::dmat4& clouds_from_frame) {
+  glm::dmat4 m = cloud_shadow_uv_from_enu(map) * clouds_from_frame;
+  for (int col = 0; col < 4; ++col) m[col][2] = clouds_from_frame[col][2];
+  return m;
+}
+
 glm::dmat4 cloud_shadow_uv_from_enu(const CloudShadowMap& map) {
   glm::dmat4 m(0.0);
   m[3][3] = 1.0;

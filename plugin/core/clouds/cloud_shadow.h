@@ -36,6 +36,11 @@ CloudShadowMap compute_cloud_shadow_map(const CloudField& field, const glm::dvec
 // and 3 (0 0 0 0) and (0 0 0 1).
 glm::dmat4 cloud_shadow_uv_from_enu(const CloudShadowMap& map);
 
+// For the sky passes (functions.glsl CloudShadowing): a point given in a
+// frame F -> (u, v, its height z in the clouds' ENU, 1), where
+// clouds_from_frame is the affine map from F to the clouds' ENU.
+glm::dmat4 cloud_shadow_uvz_from(const CloudShadowMap& map, const glm::dmat4& clouds_from_frame);
+
 // Bilinear lookup at an ENU point, 1 outside the map (what the GLSL include does).
 double sample_cloud_shadow(const CloudShadowMap& map, const glm::dvec3& p_enu_m);
 
