@@ -38,22 +38,24 @@
 //              march_step_voxels 0.5, 1, 2, at the texels sweep's last eye:
 //              cost = the median of `--frames` frames; divisor 1 step 0.5 is
 //              the reference itself (error 0; its cost is listed).
-//   octaves    multiple_scattering_octaves 1..8 (written to --octaves-csv):
-//              error against the Monte Carlo path tracer (tools/cloud_reference,
-//              all orders) as tests/clouds/octaves_vs_path_tracer_test.cpp
-//              measures it (the same 600 m blob, four sun/eye views, 20x20
-//              pixels, seed 11; 16384 paths a pixel by default, where the
-//              test takes 96: --spp 96 reproduces its figures, and the error
-//              grows with the paths, see docs/CLOUDS.md): the mean
-//              relative luminance error over the cloud's pixels (the mean of
-//              the four views'), and its bias. Two costs: the GL
-//              clouds pass, direct march at the defaults (divisor 2, step 1)
-//              at the texels sweep's last eye, median of `--frames` frames; and
-//              the CPU twin's march (march_cloud_ray, step 0.5 voxels) per ray
-//              over those pixels, microseconds (one thread, median of 5 blocks).
+//   lighting   the lighting approximations (written to --lighting-csv)
+//              against the Monte Carlo path tracer (all orders), on the
+//              stored references of tests/clouds/octaves_vs_path_tracer_test.cpp
+//              (tools/cloud_reference/lighting_views.h: 11 development and 5
+//              held-out views, 300-500k paths a pixel): single scattering;
+//              octaves alone (1..8, their a, b, c refitted here with the
+//              diffusion term off, so they are at their best); octaves + the
+//              diffusion term, the plugin's model (1..8, the defaults). Error:
+//              the mean relative luminance error over a view's cloud pixels,
+//              averaged over the views. Costs: the CPU twin's march
+//              (march_cloud_ray, step 0.5 voxels) per ray over those pixels,
+//              microseconds (one thread, median of 5 blocks); for the
+//              plugin's model also the GL clouds pass with n octaves, direct
+//              march at the defaults at the texels sweep's last eye, median
+//              of `--frames` frames.
 //
-// Usage: atmo_clouds_error_cost --csv OUT.csv --octaves-csv OUT2.csv
-//        [--width 640 --height 360 --frames 6 --path-frames 12 --spp 16384 --only texels,threshold,direct,octaves]
+// Usage: atmo_clouds_error_cost --csv OUT.csv --lighting-csv OUT2.csv
+//        [--width 640 --height 360 --frames 6 --path-frames 12 --only texels,threshold,direct,lighting]
 #include <glad/gl.h>
 
 #include <algorithm>
@@ -67,9 +69,10 @@
 #include <numeric>
 #include <set>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
-#include "cloud_path_tracer.h"
-#include "reference_clouds.h"
+#include "lighting_views.h"
 #include "cloud_scene.h"
 #include "atmo_support/image_metrics.h"
 #include "core/clouds/cloud_lighting.h"
@@ -124,8 +127,8 @@ Error frame_error(const Image& test, const Image& ref, const Image& sky_only) {
 }
 
 struct Options {
-  int width = 640, height = 360, frames = 6, path_frames = 12, spp = 16384;
-  std::string csv, octaves_csv, images_dir;
+  int width = 640, height = 360, frames = 6, path_frames = 12;
+  std::string csv, lighting_csv, images_dir;
   std::set<std::string> only;
   bool wants(const std::string& s) const { return only.empty() || only.count(s); }
 };
@@ -350,7 +353,7 @@ class Study {
         }
     }
     write_csv();
-    if (o_.wants("octaves")) octaves(end);
+    if (o_.wants("lighting")) lighting(end);
     summary();
     std::fprintf(stderr, "total %.0f s\n", now_s() - t_start);
   }
@@ -378,7 +381,7 @@ class Study {
   }
 
   void write_csv() {
-    if (o_.csv.empty()) return;
+    if (o_.csv.empty() || rows_.empty()) return;  // --only lighting keeps the last run's file
     std::ofstream f(o_.csv);
     f << "# atmo_clouds_error_cost " << o_.width << "x" << o_.height << " on " << host_.gl().renderer()
       << ": error against the direct march at divisor 1, step 0.5 voxels (PSNR of the displayed sRGB frame, peak 1);"
@@ -402,137 +405,151 @@ class Study {
     }
   }
 
-  // ---- (d) octaves against the path tracer ----
+  // ---- (d) lighting approximations against the path tracer ----
 
-  void octaves(const Camera& end) {
+  struct LightingRow {
+    std::string series;
+    int octaves = 0;
+    double development = 0.0, held_out = 0.0, all = 0.0, bias = 0.0, worst = 0.0;
+    std::string worst_view, worst_key;
+    double cpu_us_per_ray = 0.0, gl_ms = -1.0;
+  };
+
+  // The model's error over the development and held-out views, and the CPU
+  // twin's cost per ray (the views' rays lit by Sun, sky and ground together,
+  // as the plugin lights them; 100 passes over all of them in 5 blocks, the
+  // median block, one thread).
+  LightingRow score(const std::string& series, const atmo::clouds::twin::CloudOctaves& oc,
+                    const std::vector<atmo::clouds::reference::ViewRays>& rays) {
+    namespace ref = atmo::clouds::reference;
+    LightingRow r;
+    r.series = series;
+    r.octaves = oc.count;
+    double bias = 0.0;
+    int views = 0;
+    for (const auto* set : {&ref::development_views(), &ref::held_out_views()}) {
+      double sum = 0.0;
+      for (const ref::LightingView& v : *set) {
+        const ref::LightingErrors e = ref::compare_with_reference(v, oc);
+        if (e.pixels == 0) throw std::runtime_error(std::string("no stored reference for view ") + v.key);
+        sum += e.mean;
+        bias += e.bias;
+        if (e.mean > r.worst) r.worst = e.mean, r.worst_view = v.name, r.worst_key = v.key;
+        ++views;
+      }
+      (set == &ref::development_views() ? r.development : r.held_out) = sum / double(set->size());
+      r.all += sum;
+    }
+    r.all /= views;
+    r.bias = bias / views;
+    size_t n = 0;
+    for (const ref::ViewRays& v : rays) n += v.directions.size();
+    double volatile sink = 0.0;
+    std::vector<double> block_us;
+    const int passes = 100;
+    for (int b = 0; b < 5; ++b) {
+      const double t0 = now_s();
+      for (int k = 0; k < passes / 5; ++k)
+        for (const ref::ViewRays& v : rays)
+          for (const glm::dvec3& d : v.directions)
+            sink = sink + atmo::clouds::march_cloud_ray(v.cloud, v.depths, v.march, v.phase, oc, v.eye, d, 1e9).radiance.g;
+      block_us.push_back((now_s() - t0) * 1e6 / double((passes / 5) * n));
+    }
+    r.cpu_us_per_ray = median(block_us);
+    return r;
+  }
+
+  void lighting(const Camera& end) {
     namespace cl = atmo::clouds;
     namespace ref = atmo::clouds::reference;
-    const cl::CloudVolume cloud = ref::blob_cloud();  // the octaves test's blob
-    const glm::dvec3 centre = cloud.centre_enu_m();
-    struct View {
-      const char* name;
-      glm::dvec3 sun, eye_offset;
-    };
-    const View views[] = {
-        {"sun behind the eye", glm::normalize(glm::dvec3(0, -1, 1)), glm::dvec3(0, -2000, 0)},
-        {"sun to the side", glm::normalize(glm::dvec3(1, 0, 0.58)), glm::dvec3(0, -2000, 0)},
-        {"sun behind the cloud", glm::normalize(glm::dvec3(0, 1, 0.36)), glm::dvec3(0, -2000, 0)},
-        {"from below", glm::dvec3(0, 0, 1), glm::dvec3(0, -300, -1500)},
-    };
-    // The path-traced references and each view's rays (once).
-    struct Traced {
-      std::vector<glm::dvec3> dirs;
-      std::vector<double> truth;
-      glm::dvec3 eye, sun;
-      cl::LightDepths depths;
-      cl::twin::CloudMarch march;
-    };
-    std::vector<Traced> traced;
-    const cl::twin::CloudPhase phase = cl::phase_for_droplet(cloud.optics.droplet_diameter_um);
-    for (const View& v : views) {
+    std::vector<ref::ViewRays> rays;
+    size_t n_rays = 0;
+    for (const auto* set : {&ref::development_views(), &ref::held_out_views()})
+      for (const ref::LightingView& v : *set) {
+        rays.push_back(ref::view_rays(v));
+        n_rays += rays.back().directions.size();
+      }
+    std::fprintf(stderr, "lighting: %zu views, %zu cloud pixels\n", rays.size(), n_rays);
+
+    // Octaves alone, at their best: the octaves' a, b, c refitted with the
+    // diffusion term off (the fit of DISABLED_FitDefaults' second stage, on the
+    // Sun's part over the development views, at the plugin's 6 octaves; the
+    // ambient's parameters are the defaults', which do not depend on it).
+    cl::twin::CloudOctaves alone = cl::default_octaves();
+    alone.diffusion_strength = 0.0f;
+    {
       const double t0 = now_s();
-      ref::CloudEnvironment env;
-      env.light_direction = v.sun;
-      env.light_illuminance_lux = glm::dvec3(100000.0);
-      env.sky_radiance = glm::dvec3(4000.0);
-      env.ground_radiance = glm::dvec3(1500.0);
-      ref::PinholeCamera cam;
-      cam.position_enu_m = centre + v.eye_offset;
-      cam.forward = centre - cam.position_enu_m;
-      cam.up = glm::dvec3(0, 0, 1);
-      cam.vertical_fov_rad = 2.0 * std::atan(cloud.bounding_radius_m() / glm::length(cam.forward)) * 0.9;
-      cam.width = cam.height = 20;
-      ref::PathTraceSettings s;
-      s.samples_per_pixel = o_.spp;
-      s.seed = 11;
-      const ref::CloudImage img = ref::path_trace(cloud, env, cam, s);
-      Traced t;
-      t.eye = cam.position_enu_m;
-      t.sun = v.sun;
-      cl::CloudLight light;
-      light.direction_enu = v.sun;
-      light.illuminance_lux = env.light_illuminance_lux;
-      light.sky_radiance = env.sky_radiance;
-      light.ground_radiance = env.ground_radiance;
-      t.depths = cl::compute_light_depths(cloud, v.sun);
-      t.march = cl::make_cloud_march(cloud, light, 0.5f, 2048);
-      const glm::dvec3 fwd = glm::normalize(cam.forward);
-      const glm::dvec3 right = glm::normalize(glm::cross(fwd, cam.up));
-      const glm::dvec3 up = glm::cross(right, fwd);
-      const double th = std::tan(0.5 * cam.vertical_fov_rad);
-      for (int row = 0; row < cam.height; ++row)
-        for (int col = 0; col < cam.width; ++col) {
-          const size_t i = size_t(row) * cam.width + col;
-          if (img.transmittance[i] > 0.5f) continue;  // the cloud's body only, as the test
-          const double y = (1.0 - 2.0 * (row + 0.5) / cam.height) * th;
-          const double x = (2.0 * (col + 0.5) / cam.width - 1.0) * th;
-          t.dirs.push_back(glm::normalize(fwd + x * right + y * up));
-          t.truth.push_back(img.radiance[i].g);
-        }
-      std::fprintf(stderr, "path tracer, %s: %zu cloud pixels, %.1f s\n", v.name, t.truth.size(), now_s() - t0);
-      traced.push_back(std::move(t));
+      auto objective = [&](const std::vector<double>& p) {
+        for (double x : p)
+          if (x < 0.0 || x > 1.0) return 1e9;
+        cl::twin::CloudOctaves o = alone;
+        o.extinction_scale = float(p[0]), o.scattering_scale = float(p[1]), o.eccentricity_scale = float(p[2]);
+        double f = 0.0;
+        for (const ref::LightingView& v : ref::development_views()) f += ref::compare_with_reference(v, o).sun;
+        return f / double(ref::development_views().size());
+      };
+      std::vector<double> p = {alone.extinction_scale, alone.scattering_scale, alone.eccentricity_scale};
+      for (int round = 0; round < 2; ++round) p = ref::nelder_mead(objective, p, 60);
+      alone.extinction_scale = float(p[0]), alone.scattering_scale = float(p[1]), alone.eccentricity_scale = float(p[2]);
+      std::printf("octaves alone, refitted with no diffusion term: a %.3f b %.3f c %.3f (%.0f s)\n",
+                  alone.extinction_scale, alone.scattering_scale, alone.eccentricity_scale, now_s() - t0);
     }
 
-    std::ofstream f;
-    if (!o_.octaves_csv.empty()) {
-      f.open(o_.octaves_csv);
-      f << "# atmo_clouds_error_cost: multiple-scattering octaves against the path tracer (tests/clouds/"
-           "octaves_vs_path_tracer_test.cpp's blob and views, "
-        << o_.spp
-        << " paths/pixel); gl_ms: clouds pass, direct march at divisor 2 step 1, "
-        << o_.width << "x" << o_.height << ", median; cpu_us_per_ray: march_cloud_ray, step 0.5 voxels\n";
-      f << "octaves,setting,gl_ms,rel_error_pct,bias_pct,worst_view_pct,cpu_us_per_ray\n";
-    }
+    // Single scattering is the octaves' first point (one octave, no diffusion):
+    // its own series, and the start of the octaves' line.
+    std::vector<LightingRow> out;
     for (int n = 1; n <= 8; ++n) {
-      cl::twin::CloudOctaves oc = cl::default_octaves();
-      oc.count = n;
-      double err = 0.0, bias = 0.0, worst = 0.0;
-      size_t rays = 0;
-      double volatile sink = 0.0;
-      for (const Traced& t : traced) {
-        double e = 0.0;
-        for (size_t i = 0; i < t.dirs.size(); ++i) {
-          const cl::twin::CloudSample s = cl::march_cloud_ray(cloud, t.depths, t.march, phase, oc, t.eye, t.dirs[i], 1e9);
-          e += std::abs(s.radiance.g - t.truth[i]) / t.truth[i];
-          bias += s.radiance.g / t.truth[i] - 1.0;
-        }
-        rays += t.dirs.size();
-        e /= double(std::max<size_t>(1, t.dirs.size()));
-        err += e / double(std::size(views));
-        worst = std::max(worst, e);
-      }
-      bias /= double(std::max<size_t>(1, rays));
-      // CPU cost: the same rays, 100 times, in 5 blocks; the median block (one thread).
-      const int repeats = 100;
-      std::vector<double> block_us;
-      for (int b = 0; b < 5; ++b) {
-        const double t0 = now_s();
-        for (int k = 0; k < repeats; ++k)
-          for (const Traced& t : traced)
-            for (const glm::dvec3& d : t.dirs)
-              sink = sink + cl::march_cloud_ray(cloud, t.depths, t.march, phase, oc, t.eye, d, 1e9).radiance.g;
-        block_us.push_back((now_s() - t0) * 1e6 / double(repeats * rays));
-      }
-      const double us_per_ray = median(block_us);
-      // GL cost: the direct march at the defaults with n octaves.
+      cl::twin::CloudOctaves o = alone;
+      o.count = n;
+      out.push_back(score("octaves alone (refitted; no diffusion)", o, rays));
+    }
+    out.insert(out.begin(), out.front());
+    out.front().series = "single scattering";
+    for (int n = 1; n <= 8; ++n) {
+      cl::twin::CloudOctaves o = cl::default_octaves();
+      o.count = n;
+      LightingRow r = score("octaves + diffusion (the plugin's model)", o, rays);
+      // GL cost: the clouds pass, direct march at the defaults, with n octaves.
       AtmoCloudsState s = state(ATMO_CLOUD_DRAW_DIRECT);
       s.multiple_scattering_octaves = uint32_t(n);
       apply(s);
       frame(end, false);
       std::vector<double> ms;
       for (int i = 0; i < o_.frames; ++i) ms.push_back(frame(end, false).ms);
-      const double gl_ms = median(ms);
-      std::printf("octaves %d: mean relative luminance error %5.1f %% (bias %+5.1f %%, worst view %5.1f %%), GL direct "
-                  "march %.1f ms, CPU %.2f us/ray\n",
-                  n, 100 * err, 100 * bias, 100 * worst, gl_ms, us_per_ray);
-      std::fflush(stdout);
+      r.gl_ms = median(ms);
+      out.push_back(r);
+    }
+    std::ofstream f;
+    if (!o_.lighting_csv.empty()) {
+      f.open(o_.lighting_csv);
+      f << "# atmo_clouds_error_cost: cloud lighting approximations against the path tracer (stored references, "
+           "tools/cloud_reference/lighting_views.h: "
+        << ref::development_views().size() << " development + " << ref::held_out_views().size()
+        << " held-out views, " << n_rays
+        << " cloud pixels); error = mean relative luminance error over a view's cloud pixels, averaged over the "
+           "views; cpu_us_per_ray: march_cloud_ray, step 0.5 voxels, one thread; gl_ms: clouds pass, direct march "
+           "at divisor 2 step 1, "
+        << o_.width << "x" << o_.height << ", median (plugin's model only)\n";
+      f << "series,octaves,label,development_pct,held_out_pct,all_views_pct,bias_pct,worst_view_pct,worst_view,"
+           "cpu_us_per_ray,gl_ms\n";
+    }
+    for (const LightingRow& r : out) {
+      std::printf("%-42s %d octaves: error %5.1f %% (development %5.1f, held out %5.1f; bias %+5.1f %%; worst %5.1f %%, "
+                  "%s), CPU %.2f us/ray",
+                  r.series.c_str(), r.octaves, 100 * r.all, 100 * r.development, 100 * r.held_out, 100 * r.bias,
+                  100 * r.worst, r.worst_view.c_str(), r.cpu_us_per_ray);
+      if (r.gl_ms >= 0.0) std::printf(", GL direct march %.1f ms", r.gl_ms);
+      std::printf("\n");
       if (f) {
-        char buf[256];
-        std::snprintf(buf, sizeof buf, "%d,%d,%.2f,%.2f,%.2f,%.2f,%.3f\n", n, n, gl_ms, 100 * err, 100 * bias,
-                      100 * worst, us_per_ray);
+        char buf[512];
+        std::snprintf(buf, sizeof buf, "%s,%d,%d,%.2f,%.2f,%.2f,%.2f,%.2f,%s,%.3f,%s\n", r.series.c_str(),
+                      r.octaves, r.octaves, 100 * r.development, 100 * r.held_out, 100 * r.all, 100 * r.bias,
+                      100 * r.worst, r.worst_key.c_str(), r.cpu_us_per_ray,
+                      r.gl_ms >= 0.0 ? std::to_string(r.gl_ms).c_str() : "");
         f << buf;
       }
     }
+    std::fflush(stdout);
   }
 
   // The speed-up of impostors over the direct march at equal quality.
@@ -578,21 +595,20 @@ int main(int argc, char** argv) {
       return argv[++i];
     };
     if (a == "--csv") o.csv = next();
-    else if (a == "--octaves-csv") o.octaves_csv = next();
+    else if (a == "--lighting-csv") o.lighting_csv = next();
     else if (a == "--images") o.images_dir = next();
     else if (a == "--width") o.width = std::stoi(next());
     else if (a == "--height") o.height = std::stoi(next());
     else if (a == "--frames") o.frames = std::max(1, std::stoi(next()));
     else if (a == "--path-frames") o.path_frames = std::max(1, std::stoi(next()));
-    else if (a == "--spp") o.spp = std::max(1, std::stoi(next()));
     else if (a == "--only") {
       std::stringstream ss(next());
       std::string item;
       while (std::getline(ss, item, ',')) o.only.insert(item);
     } else {
       std::fprintf(stderr,
-                   "usage: atmo_clouds_error_cost [--csv F] [--octaves-csv F] [--images DIR] [--width 640] "
-                   "[--height 360] [--frames 6] [--path-frames 12] [--spp 16384] [--only texels,threshold,direct,octaves]\n");
+                   "usage: atmo_clouds_error_cost [--csv F] [--lighting-csv F] [--images DIR] [--width 640] "
+                   "[--height 360] [--frames 6] [--path-frames 12] [--only texels,threshold,direct,lighting]\n");
       return 2;
     }
   }

@@ -5,9 +5,9 @@ draws its two CSV files with atmo-chart.
 
   tools/clouds_error_cost.py --build build-bench \\
       --csv docs/measurements/clouds_error_cost.csv \\
-      --octaves-csv docs/measurements/clouds_octaves_error_cost.csv \\
+      --lighting-csv docs/measurements/clouds_lighting_error_cost.csv \\
       --png docs/images/clouds_error_cost.png \\
-      --octaves-png docs/images/clouds_octaves_error_cost.png \\
+      --lighting-png docs/images/clouds_lighting_error_cost.png \\
       --log docs/measurements/clouds_error_cost.txt
 
 Chart 1: PSNR of the displayed frame against the direct march at full
@@ -15,9 +15,12 @@ resolution and step 0.5 voxels (y) against the clouds pass's wall time per
 frame (x, log), one series per sweep (impostor resolution, with and without
 the texel rule; angle threshold on a moving path; the direct march at each
 resolution divisor, labelled by step), a dashed line at the default
-impostors' PSNR. Chart 2: the multiple-scattering octaves' mean relative
-luminance error against the path tracer (y) against the CPU twin's march time
-per ray (x); the GL pass time at each octave count is in the CSV.
+impostors' PSNR. Chart 2: the lighting approximations' mean relative
+luminance error against the path tracer's stored references (y, all 16
+views) against the CPU twin's march time per ray (x), one series per model
+(single scattering, octaves alone, octaves + diffusion), labelled by the
+octave count; the development / held-out split and the GL pass time are in
+the CSV.
 """
 import argparse
 import csv
@@ -35,9 +38,9 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default="build-bench", help="build tree with atmo_clouds_error_cost and atmo-chart")
     ap.add_argument("--csv", required=True)
-    ap.add_argument("--octaves-csv", required=True)
+    ap.add_argument("--lighting-csv", required=True)
     ap.add_argument("--png", required=True)
-    ap.add_argument("--octaves-png", required=True)
+    ap.add_argument("--lighting-png", required=True)
     ap.add_argument("--log", help="copy of the tool's standard output")
     ap.add_argument("--no-run", action="store_true", help="only draw the charts from existing CSV files")
     ap.add_argument("tool_args", nargs="*", help="passed to atmo_clouds_error_cost (after --)")
@@ -45,7 +48,7 @@ def main():
 
     if not a.no_run:
         cmd = [os.path.join(a.build, "bench", "atmo_clouds_error_cost"), "--csv", a.csv,
-               "--octaves-csv", a.octaves_csv] + a.tool_args
+               "--lighting-csv", a.lighting_csv] + a.tool_args
         print(" ".join(cmd), file=sys.stderr)
         out = subprocess.run(cmd, stdout=subprocess.PIPE, text=True)
         sys.stdout.write(out.stdout)
@@ -68,13 +71,12 @@ def main():
     r = subprocess.call(args)
     if r:
         return r
-    return subprocess.call([chart, "--csv", a.octaves_csv, "--out", a.octaves_png, "--x", "cpu_us_per_ray",
-                            "--y", "rel_error_pct", "--label", "setting", "--legend", "top-right",
-                            "--title", "Cloud lighting: octaves of multiple scattering vs the path tracer",
+    return subprocess.call([chart, "--csv", a.lighting_csv, "--out", a.lighting_png, "--x", "cpu_us_per_ray",
+                            "--y", "all_views_pct", "--group", "series", "--label", "label", "--legend", "top-right",
+                            "--title", "Cloud lighting vs the path tracer (16 views, stored references)",
                             "--xlabel", "CPU twin march per ray (microseconds; label: octave count)",
                             "--ylabel", "mean relative luminance error (%)", "--width", "1200", "--height", "800",
                             "--hline", "15", "--hline-label", "target 15 %"])
-
 
 if __name__ == "__main__":
     sys.exit(main())

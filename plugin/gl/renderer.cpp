@@ -66,9 +66,11 @@ bool Renderer::init(ProcLoader loader, void* user, std::string* error) {
   return true;
 }
 
-bool Renderer::build(Program* p, const char* fragment_path, SkyMethod method, std::string* error, int night_terms) {
+bool Renderer::build(Program* p, const char* fragment_path, SkyMethod method, std::string* error, int sky_variant) {
   const std::string defines = "#define ATMO_METHOD " + std::to_string(static_cast<int>(method)) + "\n" +
-                              "#define ATMO_NIGHT_TERMS " + std::to_string(night_terms) + "\n";
+                              "#define ATMO_NIGHT_TERMS " + std::to_string(sky_variant & 7) + "\n" +
+                              "#define ATMO_SKY_CLOUD_SHADOW " + std::to_string((sky_variant & kSkyCloudShadowBit) ? 1 : 0) +
+                              "\n";
   p->program = build_program("fullscreen.vert", fragment_path, defines, error);
   if (!p->program) return false;
   p->pass = locate_pass_uniforms(p->program);
@@ -81,7 +83,7 @@ bool Renderer::build(Program* p, const char* fragment_path, SkyMethod method, st
 void Renderer::destroy() {
   for (int m = 0; m < kMethods; ++m) {
     if (sky_[m].program) glDeleteProgram(sky_[m].program);
-    for (Program& v : sky_night_[m])
+    for (Program& v : sky_variants_[m])
       if (v.program) glDeleteProgram(v.program);
     if (aerial_[m].program) glDeleteProgram(aerial_[m].program);
   }
@@ -100,7 +102,7 @@ void Renderer::destroy() {
 void Renderer::forget() {
   for (int m = 0; m < kMethods; ++m) {
     sky_[m] = aerial_[m] = Program{};
-    for (Program& v : sky_night_[m]) v = Program{};
+    for (Program& v : sky_variants_[m]) v = Program{};
   }
   sky_view_builder_ = aerial_volume_builder_ = Program{};
   vao_ = fbo_ = transmittance_texture_ = multiple_scattering_texture_ = 0;
@@ -363,14 +365,18 @@ bool Renderer::draw_sky(const PassInputs& in, std::string* error) {
                               (in.method == SkyMethod::kAnalytic && in.analytic_weight < 1.0f);
   if (needs_sky_view && !ensure_sky_view(in, error)) return false;
   if (!ensure_moon_sky_view(in, error)) return false;
-  const int m = static_cast<int>(in.method), bits = in.night.bits();
+  // The clouds' shadow on the sky's rays: with a map of the Sun and the eye below the clouds' tops (from
+  // above, the clouds hide the air they shadow).
+  const glm::vec4 eye_in_clouds = in.cloud_shadow.uv_from_eye_enu * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  const bool cloud_shadow = in.cloud_shadow.texture != 0 && eye_in_clouds.z < in.cloud_shadow.top_m;
+  const int m = static_cast<int>(in.method), bits = in.night.bits() | (cloud_shadow ? kSkyCloudShadowBit : 0);
   auto variant = [&](int b) -> const Program* {
     if (b == 0) return &sky_[m];
-    if (sky_night_[m][b].program == 0) {
+    if (sky_variants_[m][b].program == 0) {
       GlStateGuard guard(kUnitsUsed);
-      if (!build(&sky_night_[m][b], "sky.frag", in.method, error, b)) return nullptr;
+      if (!build(&sky_variants_[m][b], "sky.frag", in.method, error, b)) return nullptr;
     }
-    return &sky_night_[m][b];
+    return &sky_variants_[m][b];
   };
   // The Moon's disc covers a few pixels: the whole sky is drawn without it and only the disc's box with it
   // (llvmpipe would run the disc's code for every pixel); a disc reaching behind the camera is drawn whole.

@@ -166,8 +166,9 @@ class Renderer {
     PassUniforms pass;  // pass_common.glsl's uniforms, looked up once after linking
     GLint aerial_grid = -1, slice = -1, sin_sun_elevation = -1;  // the table builders' own
   };
-  // night_terms: the ATMO_NIGHT_TERMS bits of sky_pixel.glsl's variant (sky.frag only).
-  bool build(Program* p, const char* fragment_path, SkyMethod method, std::string* error, int night_terms = 0);
+  // sky_variant (sky.frag only): bits 0-2 sky_pixel.glsl's ATMO_NIGHT_TERMS, kSkyCloudShadowBit its
+  // ATMO_SKY_CLOUD_SHADOW.
+  bool build(Program* p, const char* fragment_path, SkyMethod method, std::string* error, int sky_variant = 0);
   void set_uniforms(const Program& p, const PassInputs& in, int steps) const;
   void bind_textures(GLuint depth_texture, GLuint cloud_shadow_texture) const;
   // scissor: x, y, width, height in window pixels, or null for the whole viewport.
@@ -194,10 +195,12 @@ class Renderer {
   static constexpr int kMethods = 3;
   // One variant per SkyMethod (indexed by its value); the analytic tier's
   // aerial perspective uses the LUT variant.
-  // sky_: the sky pass without night terms (built by init); sky_night_[m][bits]: with exactly the terms
-  // `bits` (NightTerms::bits()), built the first time a frame needs it, so a frame pays only for what it draws.
-  static constexpr int kNightTermVariants = 8;
-  Program sky_[kMethods], sky_night_[kMethods][kNightTermVariants], aerial_[kMethods], sky_view_builder_,
+  // sky_: the sky pass without night terms or cloud shadow (built by init); sky_variants_[m][bits]: with
+  // exactly the night terms `bits & 7` (NightTerms::bits()) and the clouds' shadow if `bits &
+  // kSkyCloudShadowBit`, built the first time a frame needs it, so a frame pays only for what it draws.
+  static constexpr int kSkyCloudShadowBit = 8;
+  static constexpr int kSkyVariants = 16;
+  Program sky_[kMethods], sky_variants_[kMethods][kSkyVariants], aerial_[kMethods], sky_view_builder_,
       aerial_volume_builder_;
   GLuint vao_ = 0, fbo_ = 0;
   GLuint transmittance_texture_ = 0, multiple_scattering_texture_ = 0;

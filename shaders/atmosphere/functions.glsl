@@ -218,6 +218,7 @@ ATMO_FN vec3 multiple_scattering_texel(IN(AtmosphereParameters) atm, LUT2D trans
 struct ScatteringResult {
   vec3 inscattered;    // cd/m^2 reaching the eye from the segment
   vec3 transmittance;  // along the segment
+  vec3 shadowed_away;  // cd/m^2 the clouds' shadow took from `inscattered` (0 without clouds)
 };
 
 // The integral of exp(-sigma_t s) over one step of length dt, with sigma_t
@@ -270,6 +271,38 @@ ATMO_FN float cloud_shadowing_at(IN(CloudShadowing) cs, LUT2D map, IN(vec3) p) {
   return mix(t, 1.0f, within);
 }
 
+// How far along `dir` from the eye the clouds' shadow can reach: to where the
+// ray leaves the map's square or rises above the clouds' highest top (0 when
+// it never passes under the clouds within the map, or when disabled). The
+// part of a sky-dome ray it covers is what the sky pass takes the shadowed
+// light from.
+ATMO_FN float cloud_shadow_reach(IN(CloudShadowing) cs, IN(vec3) dir) {
+  if (cs.enabled == 0) return 0.0f;
+  vec4 q0 = cs.uv_from_eye_enu * vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  vec4 dq = cs.uv_from_eye_enu * vec4(dir, 0.0f);
+  float t_in = 0.0f, t_out = 1e30f;
+  // The slab 0 <= u, v <= 1 and height <= top.
+  for (int a = 0; a < 2; ++a) {
+    float o = a == 0 ? q0.x : q0.y, d = a == 0 ? dq.x : dq.y;
+    if (abs(d) < 1e-12f) {
+      if (o < 0.0f || o > 1.0f) return 0.0f;
+      continue;
+    }
+    float ta = -o / d, tb = (1.0f - o) / d;
+    t_in = max(t_in, min(ta, tb));
+    t_out = min(t_out, max(ta, tb));
+  }
+  if (dq.z > 0.0f) {
+    if (q0.z >= cs.top_m) return 0.0f;
+    t_out = min(t_out, (cs.top_m - q0.z) / dq.z);
+  } else if (dq.z < 0.0f) {
+    if (q0.z > cs.top_m) t_in = max(t_in, (cs.top_m - q0.z) / dq.z);
+  } else if (q0.z >= cs.top_m) {
+    return 0.0f;
+  }
+  return t_out > t_in ? t_out : 0.0f;
+}
+
 // The share of the light a cloud passes diffusely, given its direct
 // transmittance: a conservative two-stream slab of optical depth tau =
 // -ln(direct) and droplet asymmetry 0.85 lets 1 / (1 + 0.75 (1 - 0.85) tau)
@@ -295,6 +328,7 @@ ATMO_FN ScatteringResult integrate_scattering_shadowed(IN(AtmosphereParameters) 
   ScatteringResult result;
   result.inscattered = vec3(0.0f);
   result.transmittance = vec3(1.0f);
+  result.shadowed_away = vec3(0.0f);
   vec3 center = vec3(0.0f, 0.0f, -(atm.bottom_radius_m + eye_altitude_m));
   vec3 eye_from_center = -center;
 
@@ -344,12 +378,15 @@ ATMO_FN ScatteringResult integrate_scattering_shadowed(IN(AtmosphereParameters) 
     vec3 sigma_s = atm.rayleigh_scattering * rd + atm.mie_scattering * md;
     vec3 psi_ms = sample_lut(ms_lut, multiple_scattering_uv(atm, r, mu_s, ms_size));
     float direct = cloud_shadowing_at(cs, map, dir * t);
-    result.inscattered += transmittance * (direct * t_sun * scatter + cloud_diffuse_transmission(direct) * sigma_s * psi_ms) *
-                          step_transmittance_integral(sigma_t, dt, step_transmittance);
+    float diffuse = cloud_diffuse_transmission(direct);
+    vec3 weight = transmittance * step_transmittance_integral(sigma_t, dt, step_transmittance);
+    result.inscattered += weight * (direct * t_sun * scatter + diffuse * sigma_s * psi_ms);
+    result.shadowed_away += weight * ((1.0f - direct) * t_sun * scatter + (1.0f - diffuse) * sigma_s * psi_ms);
     transmittance *= step_transmittance;
   }
   result.transmittance = transmittance;
   result.inscattered *= atm.sun_illuminance_lux;
+  result.shadowed_away *= atm.sun_illuminance_lux;
   return result;
 }
 

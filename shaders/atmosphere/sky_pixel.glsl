@@ -76,7 +76,31 @@ vec3 analytic_sky(vec3 dir) {
                                u_sun_direction_enu);
 }
 
-vec3 day_sky_radiance(vec3 dir) {
+// ATMO_SKY_CLOUD_SHADOW 1: the clouds' shadow darkens the sunlit air along
+// the sky's rays (the renderer builds this variant for frames with a shadow
+// map of the Sun and the eye below the clouds' tops; the sky-view table, the
+// analytic sky and the march know no clouds).
+#ifndef ATMO_SKY_CLOUD_SHADOW
+#define ATMO_SKY_CLOUD_SHADOW 0
+#endif
+#if ATMO_SKY_CLOUD_SHADOW != 0
+// Samples along the part of the ray under the clouds (up to ~100 km).
+const int kSkyCloudShadowSteps = 24;
+
+// The light the clouds' shadow takes from the sky in `dir`: the air's
+// scattering along the ray up to where it leaves the clouds' layer or map,
+// unshadowed less shadowed (integrate_scattering_shadowed).
+vec3 sky_cloud_shadow_loss(vec3 dir) {
+  float reach = cloud_shadow_reach(u_cloud_shadowing, dir);
+  if (reach <= 0.0f) return vec3(0.0f);
+  return integrate_scattering_shadowed(u_atmosphere, u_transmittance, u_transmittance_size, u_multiple_scattering,
+                                       u_multiple_scattering_size, u_eye_altitude_m, dir, u_sun_direction_enu, reach,
+                                       kSkyCloudShadowSteps, u_cloud_shadowing, u_cloud_shadow)
+      .shadowed_away;
+}
+#endif
+
+vec3 unshadowed_day_sky_radiance(vec3 dir) {
 #if ATMO_METHOD == METHOD_MARCH
   return sky_radiance(u_atmosphere, u_transmittance, u_transmittance_size, u_multiple_scattering,
                       u_multiple_scattering_size, u_eye_altitude_m, dir, u_sun_direction_enu, u_steps);
@@ -85,6 +109,14 @@ vec3 day_sky_radiance(vec3 dir) {
   return u_analytic_weight >= 1.0f ? analytic_sky(dir) : mix(lut_sky(dir), analytic_sky(dir), u_analytic_weight);
 #else
   return lut_sky(dir);
+#endif
+}
+
+vec3 day_sky_radiance(vec3 dir) {
+#if ATMO_SKY_CLOUD_SHADOW != 0
+  return max(unshadowed_day_sky_radiance(dir) - sky_cloud_shadow_loss(dir), vec3(0.0f));
+#else
+  return unshadowed_day_sky_radiance(dir);
 #endif
 }
 

@@ -5,7 +5,8 @@
 // the same clouds: mean relative luminance error over the cloud's pixels, its
 // bias, and the errors of the light's and the ambient's parts, per view.
 //
-// The references are STORED (path_traced_references.inc, written by
+// The references are STORED (tools/cloud_reference/path_traced_references.inc,
+// with the views in lighting_views.cpp; written by
 // DISABLED_RegenerateReferences from the path tracer, ~1 h on 2 cores,
 // bit-identical on rerun): 500 000 paths per pixel (300 000 for the decks) in
 // two independent halves. Fewer will not do: with the droplets' diffraction
@@ -45,227 +46,26 @@
 #include <vector>
 
 #include "cloud_path_tracer.h"
-#include "reference_clouds.h"
+#include "lighting_views.h"
 #include "core/clouds/cloud_lighting.h"
 #include "core/clouds/cloud_optics.h"
-#include "core/clouds/procedural_clouds.h"
 
 namespace {
 
 using namespace atmo::clouds;
+using reference::LightingErrors;
+using View = reference::LightingView;
+using reference::development_views;
+using reference::held_out_views;
 
-// ---------------------------------------------------------------------------
-// The clouds and the views (their stored references depend on every number
-// here: change one and regenerate).
+constexpr double kSunLux = reference::kViewSunLux, kSkyCdm2 = reference::kViewSkyCdm2,
+                 kGroundCdm2 = reference::kViewGroundCdm2;
 
-using reference::blob_cloud;  // reference_clouds.h
-
-// Prototype `index` of a procedural cumulus layer (seed 7, 1000-1800 m,
-// voxels <= 30 m), at the origin, with extinction `extinction_per_m`.
-CloudVolume cumulus_prototype(int index, float extinction_per_m) {
-  CloudLayerSpec s;
-  s.type = CloudLayerType::Cumulus;
-  s.coverage_oktas = 3;
-  s.base_m = 1000;
-  s.top_m = 1800;
-  s.area_size_m = 10000;
-  s.seed = 7;
-  s.max_voxel_size_m = 30;
-  CloudVolume c = generate_cloud_layer(s).field.prototypes.at(static_cast<size_t>(index));
-  c.origin_enu_m = glm::dvec3(0.0, 0.0, 1000.0);
-  c.optics.extinction_per_m = extinction_per_m;
-  return c;
+LightingErrors compare(const View& v, const twin::CloudOctaves& octaves) {
+  return reference::compare_with_reference(v, octaves);
 }
 
-// A homogeneous deck: 40 x 40 columns of 40 m, 8 voxels thick (one empty voxel
-// above and below), vertical optical depth `tau`.
-CloudVolume deck(double tau) {
-  CloudVolume c;
-  c.name = "deck";
-  c.voxel_size_m = 40.0f;
-  c.density = DenseGrid(40, 40, 10);
-  for (int z = 1; z < 9; ++z)
-    for (int y = 0; y < 40; ++y)
-      for (int x = 0; x < 40; ++x) c.density.at(x, y, z) = 1.0f;
-  c.optics.extinction_per_m = static_cast<float>(tau / (8 * 40.0));
-  c.origin_enu_m = glm::dvec3(0, 0, 1000);
-  return c;
-}
-
-// Unit vector towards the Sun: elevation, and azimuth from north (y) towards east (x).
-glm::dvec3 sun_at(double elevation_deg, double azimuth_deg) {
-  const double e = glm::radians(elevation_deg), a = glm::radians(azimuth_deg);
-  return glm::dvec3(std::cos(e) * std::sin(a), std::cos(e) * std::cos(a), std::sin(e));
-}
-
-struct View {
-  const char* key;
-  const char* name;
-  std::function<CloudVolume()> cloud;
-  glm::dvec3 sun;
-  glm::dvec3 eye_offset;       // eye = the cloud's centre + this; the camera looks at the centre
-  double fov_deg = 0.0;        // 0: 0.9 x the cloud's bounding sphere
-  int res = 16;                // square image
-  int spp = 500000;            // reference paths per pixel for the Sun (sky and ground: spp / 16), per half
-  float max_transmittance = 0.5f;  // pixels compared: the cloud's body (the edges are noise-dominated)
-};
-
-// Prototype `index` of a procedural stratus deck (seed 3, 800-1100 m, 6 km
-// area: 62 x 62 x 8 voxels of 50 m, with holes), extinction `extinction_per_m`.
-CloudVolume stratus_tile(int index, float extinction_per_m) {
-  CloudLayerSpec s;
-  s.type = CloudLayerType::Stratus;
-  s.coverage_oktas = 8;
-  s.base_m = 800;
-  s.top_m = 1100;
-  s.area_size_m = 6000;
-  s.seed = 3;
-  CloudVolume c = generate_cloud_layer(s).field.prototypes.at(static_cast<size_t>(index));
-  c.optics.extinction_per_m = extinction_per_m;
-  return c;
-}
-
-// The development views: the defaults were fitted on all of them.
-const std::vector<View>& development_views() {
-  static const auto cu3 = [] { return cumulus_prototype(3, 0.06f); };
-  static const std::vector<View> v = {
-      {"blob_eyesun", "blob, Sun behind the eye, 45 deg up", blob_cloud, glm::normalize(glm::dvec3(0, -1, 1)),
-       glm::dvec3(0, -2000, 0)},
-      {"blob_side", "blob, Sun to the side, 30 deg up", blob_cloud, glm::normalize(glm::dvec3(1, 0, 0.58)),
-       glm::dvec3(0, -2000, 0)},
-      {"blob_behind", "blob, Sun behind it, 20 deg up", blob_cloud, glm::normalize(glm::dvec3(0, 1, 0.36)),
-       glm::dvec3(0, -2000, 0)},
-      {"blob_below", "blob from below, Sun overhead", blob_cloud, glm::dvec3(0, 0, 1), glm::dvec3(0, -300, -1500)},
-      {"cu0_side", "cumulus #0, Sun to the side, 45 deg up", [] { return cumulus_prototype(0, 0.06f); },
-       sun_at(45, 90), glm::dvec3(0, -2000, 300)},
-      {"cu_front", "cumulus #3, Sun high behind the eye", cu3, sun_at(60, 200), glm::dvec3(300, -2200, 200)},
-      {"cu_low_sun", "cumulus #3, Sun 8 deg up to the side", cu3, sun_at(8, 70), glm::dvec3(-400, -2200, -100)},
-      {"cu_below", "cumulus #3 from below, Sun 40 deg up", cu3, sun_at(40, 30), glm::dvec3(200, -500, -1400)},
-      {"thin_side", "thin cumulus (tau <= 2), Sun 35 deg up", [] { return cumulus_prototype(5, 0.006f); },
-       sun_at(35, 100), glm::dvec3(0, -1800, 100), 0.0, 16, 500000, 0.9f},
-      {"deck_below", "deck tau 20 from below, Sun 50 deg up", [] { return deck(20.0); }, sun_at(50, 120),
-       glm::dvec3(0, -300, -900), 30.0, 10, 300000},
-      {"deck_above", "deck tau 20 from above, Sun 25 deg up", [] { return deck(20.0); }, sun_at(25, 250),
-       glm::dvec3(0, -500, 900), 30.0, 10, 300000},
-  };
-  return v;
-}
-
-// The held-out views: clouds, suns and eyes no fit and no choice of the model
-// saw (defined and path-traced before the model was final, compared once).
-const std::vector<View>& held_out_views() {
-  static const std::vector<View> v = {
-      {"f_cu7_side", "cumulus #7, Sun 30 deg up, side-lit", [] { return cumulus_prototype(7, 0.06f); },
-       sun_at(30, 120), glm::dvec3(-500, -2300, 0)},
-      {"f_cu9_below", "cumulus #9 from below, Sun 65 deg up", [] { return cumulus_prototype(9, 0.06f); },
-       sun_at(65, 300), glm::dvec3(300, -400, -1300)},
-      {"f_st_below", "stratus tile (tau <= 7, holes) from below", [] { return stratus_tile(0, 0.04f); },
-       sun_at(40, 200), glm::dvec3(0, -300, -900), 30.0, 10, 300000},
-      {"f_st_thick_above", "stratus tile x2.5 (tau <= 18) from above", [] { return stratus_tile(3, 0.1f); },
-       sun_at(20, 80), glm::dvec3(200, -600, 900), 30.0, 10, 300000},
-      {"f_thin_behind", "thin cumulus (tau <= 5), Sun 20 deg up behind it", [] { return cumulus_prototype(11, 0.012f); },
-       sun_at(20, 0), glm::dvec3(0, -1800, 0), 0.0, 16, 500000, 0.9f},
-  };
-  return v;
-}
-
-constexpr double kSunLux = 1e5, kSkyCdm2 = 4000.0, kGroundCdm2 = 1500.0;
-
-reference::PinholeCamera camera_for(const View& v, const CloudVolume& cloud) {
-  reference::PinholeCamera cam;
-  cam.position_enu_m = cloud.centre_enu_m() + v.eye_offset;
-  cam.forward = -v.eye_offset;
-  cam.up = glm::dvec3(0, 0, 1);
-  if (std::abs(glm::normalize(cam.forward).z) > 0.99) cam.up = glm::dvec3(0, 1, 0);
-  cam.vertical_fov_rad = v.fov_deg > 0.0 ? glm::radians(v.fov_deg)
-                                         : 2.0 * std::atan(cloud.bounding_radius_m() / glm::length(cam.forward)) * 0.9;
-  cam.width = cam.height = v.res;
-  return cam;
-}
-
-// The path tracer's pixel-centre ray (cloud_path_tracer.h: no jitter).
-glm::dvec3 pixel_ray(const reference::PinholeCamera& cam, int row, int col) {
-  const glm::dvec3 fwd = glm::normalize(cam.forward);
-  const glm::dvec3 right = glm::normalize(glm::cross(fwd, cam.up));
-  const glm::dvec3 up = glm::cross(right, fwd);
-  const double th = std::tan(0.5 * cam.vertical_fov_rad);
-  const double y = (1.0 - 2.0 * (row + 0.5) / cam.height) * th;
-  const double x = (2.0 * (col + 0.5) / cam.width - 1.0) * th;
-  return glm::normalize(fwd + x * right + y * up);
-}
-
-// ---------------------------------------------------------------------------
-// The stored references.
-
-struct StoredReference {
-  const char* key;
-  int res;
-  // Per pixel, row-major: Sun, sky, ground radiance (cd/m^2, green, for
-  // kSunLux, kSkyCdm2, kGroundCdm2), transmittance, and |a - b| / (a + b) of
-  // the two halves' totals.
-  const float* data;
-};
-
-#include "path_traced_references.inc"
-
-const StoredReference* stored(const char* key) {
-  for (const StoredReference& r : kStoredReferences)
-    if (std::string(r.key) == key) return &r;
-  return nullptr;
-}
-
-// ---------------------------------------------------------------------------
-// The comparison.
-
-struct Errors {
-  double mean = 0.0, bias = 0.0;          // of (model - truth) / truth over the pixels
-  double sun = 0.0, ambient = 0.0;        // mean |model - truth| of each part / the pixel's truth
-  double sun_ratio = 0.0, ambient_ratio = 0.0;  // summed model / summed truth, per part
-  double noise = 0.0;                     // the reference's: mean |a - b| / (a + b)
-  int pixels = 0;
-};
-
-Errors compare(const View& v, const twin::CloudOctaves& octaves) {
-  const CloudVolume cloud = v.cloud();
-  const reference::PinholeCamera cam = camera_for(v, cloud);
-  const StoredReference* ref = stored(v.key);
-  Errors e;
-  if (!ref || ref->res != v.res) return e;
-  const LightDepths depths = compute_light_depths(cloud, v.sun);
-  const twin::CloudPhase phase = phase_for_droplet(cloud.optics.droplet_diameter_um);
-  CloudLight sun, amb;
-  sun.direction_enu = amb.direction_enu = v.sun;
-  sun.illuminance_lux = glm::dvec3(kSunLux);
-  amb.sky_radiance = glm::dvec3(kSkyCdm2);
-  amb.ground_radiance = glm::dvec3(kGroundCdm2);
-  const twin::CloudMarch m_sun = make_cloud_march(cloud, sun, 0.5f, 2048);
-  const twin::CloudMarch m_amb = make_cloud_march(cloud, amb, 0.5f, 2048);
-  double sun_model = 0.0, sun_truth = 0.0, amb_model = 0.0, amb_truth = 0.0;
-  for (int row = 0; row < v.res; ++row)
-    for (int col = 0; col < v.res; ++col) {
-      const float* px = ref->data + 5 * (static_cast<size_t>(row) * v.res + col);
-      if (px[3] > v.max_transmittance) continue;
-      const double truth_sun = px[0], truth_amb = px[1] + px[2], truth = truth_sun + truth_amb;
-      const glm::dvec3 d = pixel_ray(cam, row, col);
-      const double ms = march_cloud_ray(cloud, depths, m_sun, phase, octaves, cam.position_enu_m, d, 1e9).radiance.g;
-      const double ma = march_cloud_ray(cloud, depths, m_amb, phase, octaves, cam.position_enu_m, d, 1e9).radiance.g;
-      e.mean += std::abs(ms + ma - truth) / truth;
-      e.bias += (ms + ma) / truth - 1.0;
-      e.sun += std::abs(ms - truth_sun) / truth;
-      e.ambient += std::abs(ma - truth_amb) / truth;
-      e.noise += px[4];
-      sun_model += ms, sun_truth += truth_sun, amb_model += ma, amb_truth += truth_amb;
-      ++e.pixels;
-    }
-  if (e.pixels) {
-    for (double* x : {&e.mean, &e.bias, &e.sun, &e.ambient, &e.noise}) *x /= e.pixels;
-    e.sun_ratio = sun_model / sun_truth;
-    e.ambient_ratio = amb_model / amb_truth;
-  }
-  return e;
-}
-
-void print(const View& v, const Errors& e, const char* label = "") {
+void print(const View& v, const LightingErrors& e, const char* label = "") {
   std::printf("%-42s %3d px: %s%5.1f %% (bias %+5.1f %%; Sun part %4.1f %%, ambient part %4.1f %%; "
               "model/truth Sun %.2f ambient %.2f; reference noise %.1f %%)\n",
               v.name, e.pixels, label, 100.0 * e.mean, 100.0 * e.bias, 100.0 * e.sun, 100.0 * e.ambient,
@@ -276,7 +76,7 @@ void print(const View& v, const Errors& e, const char* label = "") {
 double check_views(const std::vector<View>& views, const std::vector<double>& limits, const char* what) {
   double mean = 0.0;
   for (size_t i = 0; i < views.size(); ++i) {
-    const Errors e = compare(views[i], default_octaves());
+    const LightingErrors e = compare(views[i], default_octaves());
     print(views[i], e);
     EXPECT_GT(e.pixels, 20) << views[i].key << ": no stored reference, or too few cloud pixels";
     EXPECT_LE(e.mean, limits[i]) << views[i].name;
@@ -318,11 +118,11 @@ TEST(CloudOctaves, StoredReferencesMatchThePathTracer) {
   for (const View& v : held_out_views()) views.push_back(v);
   double sun_ratio = 0.0;
   for (const View& v : views) {
-    const StoredReference* ref = stored(v.key);
+    const reference::StoredReference* ref = reference::stored_reference(v.key);
     ASSERT_NE(ref, nullptr) << v.key;
     ASSERT_EQ(ref->res, v.res) << v.key;
     const CloudVolume cloud = v.cloud();
-    const reference::PinholeCamera cam = camera_for(v, cloud);
+    const reference::PinholeCamera cam = reference::camera_for(v, cloud);
     reference::CloudEnvironment env[3];
     for (auto& e : env) e.light_direction = v.sun;
     env[0].light_illuminance_lux = glm::dvec3(kSunLux);
@@ -358,7 +158,8 @@ TEST(CloudOctaves, StoredReferencesMatchThePathTracer) {
 // ---------------------------------------------------------------------------
 // Not part of the suite.
 
-// Writes path_traced_references.inc (to $ATMO_REFERENCE_OUT, else the working
+// Writes path_traced_references.inc (for tools/cloud_reference/; to
+// $ATMO_REFERENCE_OUT, else the working
 // directory) from the path tracer: each view's Sun, sky and ground images in
 // two independent halves (seeds 1000 h + part), averaged. ~1 h on 2 cores;
 // $ATMO_REFERENCE_VIEWS (keys separated by commas) limits it to some views.
@@ -377,7 +178,7 @@ TEST(CloudOctaves, DISABLED_RegenerateReferences) {
       views.push_back(v);
   for (const View& v : views) {
     const CloudVolume cloud = v.cloud();
-    const reference::PinholeCamera cam = camera_for(v, cloud);
+    const reference::PinholeCamera cam = reference::camera_for(v, cloud);
     const size_t n = static_cast<size_t>(v.res) * v.res;
     std::vector<double> part[2][3];
     std::vector<float> transmittance;
@@ -415,54 +216,8 @@ TEST(CloudOctaves, DISABLED_RegenerateReferences) {
 }
 
 // The fit that chose default_octaves() (docs/CLOUDS.md): Nelder-Mead on the
-// tuning views, the ambient's two parameters on the ambient's error first,
-// then the octaves' and the diffusion's on the Sun's. Prints the parameters.
-std::vector<double> nelder_mead(const std::function<double(const std::vector<double>&)>& f, std::vector<double> x0,
-                                int iterations) {
-  const size_t n = x0.size();
-  std::vector<std::vector<double>> s(n + 1, x0);
-  std::vector<double> fv(n + 1);
-  for (size_t i = 0; i < n; ++i) s[i + 1][i] += 0.2 * std::abs(x0[i]) + 0.02;
-  for (size_t i = 0; i <= n; ++i) fv[i] = f(s[i]);
-  for (int it = 0; it < iterations; ++it) {
-    std::vector<size_t> o(n + 1);
-    for (size_t i = 0; i <= n; ++i) o[i] = i;
-    std::sort(o.begin(), o.end(), [&](size_t a, size_t b) { return fv[a] < fv[b]; });
-    const auto S = s;
-    const auto F = fv;
-    for (size_t i = 0; i <= n; ++i) s[i] = S[o[i]], fv[i] = F[o[i]];
-    std::vector<double> c(n, 0.0);
-    for (size_t i = 0; i < n; ++i)
-      for (size_t j = 0; j < n; ++j) c[j] += s[i][j] / n;
-    auto along = [&](double t) {
-      std::vector<double> r(n);
-      for (size_t j = 0; j < n; ++j) r[j] = c[j] + t * (s[n][j] - c[j]);
-      return r;
-    };
-    const auto xr = along(-1.0);
-    const double fr = f(xr);
-    if (fr < fv[0]) {
-      const auto xe = along(-2.0);
-      const double fe = f(xe);
-      s[n] = fe < fr ? xe : xr, fv[n] = std::min(fe, fr);
-    } else if (fr < fv[n - 1]) {
-      s[n] = xr, fv[n] = fr;
-    } else {
-      const auto xc = along(fr < fv[n] ? -0.5 : 0.5);
-      const double fc = f(xc);
-      if (fc < std::min(fr, fv[n])) {
-        s[n] = xc, fv[n] = fc;
-      } else {
-        for (size_t i = 1; i <= n; ++i) {
-          for (size_t j = 0; j < n; ++j) s[i][j] = s[0][j] + 0.5 * (s[i][j] - s[0][j]);
-          fv[i] = f(s[i]);
-        }
-      }
-    }
-  }
-  return s[std::min_element(fv.begin(), fv.end()) - fv.begin()];
-}
-
+// tuning views, the ambient's parameters on the ambient's error first, then
+// the octaves' and the diffusion's on the Sun's. Prints the parameters.
 TEST(CloudOctaves, DISABLED_FitDefaults) {
   const std::vector<View>& views = development_views();
   twin::CloudOctaves o = default_octaves();
@@ -483,19 +238,19 @@ TEST(CloudOctaves, DISABLED_FitDefaults) {
     set(p, ambient);
     double f = 0.0;
     for (const View& v : views) {
-      const Errors e = compare(v, o);
+      const LightingErrors e = compare(v, o);
       f += (ambient ? e.ambient : e.sun) / views.size();
     }
     return f;
   };
   std::vector<double> amb = {o.ambient_loss + 0.01, o.ambient_extinction, o.ambient_view_extinction};
-  amb = nelder_mead([&](const std::vector<double>& p) { return objective(p, true); }, amb, 150);
+  amb = reference::nelder_mead([&](const std::vector<double>& p) { return objective(p, true); }, amb, 150);
   set(amb, true);
   std::vector<double> sun = {o.extinction_scale,   o.scattering_scale,      o.eccentricity_scale,
                              o.diffusion_strength, o.diffusion_extinction,  o.diffusion_side_escape,
                              o.diffusion_anisotropy, o.diffusion_buildup_extinction};
   for (int round = 0; round < 2; ++round)
-    sun = nelder_mead([&](const std::vector<double>& p) { return objective(p, false); }, sun, 300);
+    sun = reference::nelder_mead([&](const std::vector<double>& p) { return objective(p, false); }, sun, 300);
   set(sun, false);
   std::printf("ambient_loss %.3f ambient_extinction %.3f ambient_view_extinction %.3f | a %.3f b %.3f c %.3f | diffusion K %.3f k %.3f side %.3f "
               "anisotropy %.3f buildup %.3f\n",
@@ -504,7 +259,7 @@ TEST(CloudOctaves, DISABLED_FitDefaults) {
               o.diffusion_buildup_extinction);
   double mean = 0.0;
   for (const View& v : views) {
-    const Errors e = compare(v, o);
+    const LightingErrors e = compare(v, o);
     print(v, e);
     mean += e.mean / views.size();
   }

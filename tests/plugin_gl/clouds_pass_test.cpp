@@ -231,37 +231,38 @@ TEST(CloudsPass, SunCrossingTheHorizon) {
 // (the Sun's single scattering goes, the air's multiple scattering keeps the
 // deck's diffuse transmission), and is left as it is when the same deck lies
 // far from the view.
-TEST(CloudsPass, TheHazeUnderAnOvercastDeckIsInItsShadow) {
-  Fixture f;
-  const GLuint depth = atmo::support::make_split_depth_texture(kWidth, kHeight, 0.99995f);
-  auto haze = [&](const AtmoCloudLayer* layer) {
-    if (layer) {
-      const AtmoCloudsState s = clouds_at_innsbruck(layer, 1);
-      EXPECT_EQ(raw_set_clouds(f, s), ATMO_SUCCESS) << f.context->last_error();
-    } else {
-      AtmoCloudsState none = clouds_at_innsbruck(nullptr, 0);
-      EXPECT_EQ(raw_set_clouds(f, none), ATMO_SUCCESS);
-    }
-    auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
-    frame.utc_posix_s = 1718964000.0;  // 2024-06-21T10:00Z: the Sun ~60 deg up
-    f.context->set_frame(frame);
-    const glm::dmat4 proj = glm::perspective(glm::radians(60.0), double(kWidth) / kHeight, 1.0, 1e5);
-    AtmoViewState vs = innsbruck_view(300.0, 0.0, 0.0, proj);
-    vs.depth_texture = depth;
-    f.view->set(vs);
-    f.target->bind();
-    glClearColor(0, 0, 0, 0);
-    glClear(GL_COLOR_BUFFER_BIT);
-    EXPECT_EQ(f.view->render(ATMO_PASS_AERIAL_PERSPECTIVE), ATMO_SUCCESS) << f.context->last_error();
-    glFinish();
-    const atmo::support::Image img = f.target->read_color();
-    EXPECT_EQ(count_bad(img), 0u);
-    double sum = 0.0;
-    int n = 0;
-    for (int y = img.height / 2 + 2; y < img.height; ++y)  // the lower half: the geometry (read_color's row 0 is the top)
-      for (int x = 0; x < img.width; ++x, ++n) sum += atmo::support::luminance(img.pixel(x, y));
-    return sum / n;
-  };
+// The mean luminance (cd/m^2) of rows [row_begin, row_end) (row 0 at the top)
+// of one pass drawn from 300 m at Innsbruck at noon, looking north level,
+// under `layer` (nullptr: no clouds): the aerial-perspective pass over black
+// with geometry 20 km away in the lower half (`depth`), or the sky pass with
+// no host depth.
+double luminance_under(Fixture& f, const AtmoCloudLayer* layer, AtmoPass pass, GLuint depth, double vfov_deg,
+                       int row_begin, int row_end) {
+  const AtmoCloudsState s = clouds_at_innsbruck(layer, layer ? 1 : 0);
+  EXPECT_EQ(raw_set_clouds(f, s), ATMO_SUCCESS) << f.context->last_error();
+  auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+  frame.utc_posix_s = 1718964000.0;  // 2024-06-21T10:00Z: the Sun ~60 deg up
+  f.context->set_frame(frame);
+  const glm::dmat4 proj = glm::perspective(glm::radians(vfov_deg), double(kWidth) / kHeight, 1.0, 1e5);
+  AtmoViewState vs = innsbruck_view(300.0, 0.0, 0.0, proj);
+  vs.depth_texture = pass == ATMO_PASS_SKY ? 0 : depth;
+  f.view->set(vs);
+  f.target->bind();
+  glClearColor(0, 0, 0, 0);
+  glClear(GL_COLOR_BUFFER_BIT);
+  EXPECT_EQ(f.view->render(pass), ATMO_SUCCESS) << f.context->last_error();
+  glFinish();
+  const atmo::support::Image img = f.target->read_color();
+  EXPECT_EQ(count_bad(img), 0u);
+  double sum = 0.0;
+  int n = 0;
+  for (int y = row_begin; y < row_end; ++y)
+    for (int x = 0; x < img.width; ++x, ++n) sum += atmo::support::luminance(img.pixel(x, y));
+  return sum / n;
+}
+
+// A 46 km overcast deck, 600-1100 m, centred on the eye (or moved away).
+AtmoCloudLayer overcast_deck() {
   AtmoCloudLayer deck = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
   deck.type = ATMO_CLOUD_OVERCAST;
   deck.coverage_oktas = 8;
@@ -269,6 +270,16 @@ TEST(CloudsPass, TheHazeUnderAnOvercastDeckIsInItsShadow) {
   deck.top_m = 1100.0;
   deck.area_size_m = 46000.0;
   deck.seed = 2;
+  return deck;
+}
+
+TEST(CloudsPass, TheHazeUnderAnOvercastDeckIsInItsShadow) {
+  Fixture f;
+  const GLuint depth = atmo::support::make_split_depth_texture(kWidth, kHeight, 0.99995f);
+  auto haze = [&](const AtmoCloudLayer* layer) {  // the lower half: the geometry
+    return luminance_under(f, layer, ATMO_PASS_AERIAL_PERSPECTIVE, depth, 60.0, kHeight / 2 + 2, kHeight);
+  };
+  AtmoCloudLayer deck = overcast_deck();
   const double clear = haze(nullptr);
   const double under = haze(&deck);
   deck.area_centre_enu_m[0] = -150000.0;  // the same deck 150 km west, its shadow off the view
@@ -281,4 +292,29 @@ TEST(CloudsPass, TheHazeUnderAnOvercastDeckIsInItsShadow) {
   EXPECT_GT(under, 0.01 * clear);  // the deck's diffuse light
   EXPECT_NEAR(elsewhere / clear, 1.0, 1e-3);
   glDeleteTextures(1, &depth);
+}
+
+// The sky dome just above the horizon, seen under the same deck: its rays run
+// ~23 km through the deck's shadow before they leave it at the deck's edge
+// (the sky pass takes the shadowed light off the sky-view table along that
+// part, sky_pixel.glsl ATMO_SKY_CLOUD_SHADOW), so the horizon darkens, though
+// less than the haze in front of geometry 20 km away, whose whole path is in
+// the shadow; the same deck far away changes nothing.
+TEST(CloudsPass, TheHorizonSkyUnderAnOvercastDeckIsInItsShadow) {
+  Fixture f;
+  auto horizon = [&](const AtmoCloudLayer* layer) {  // 10 deg field: the 3 rows above the horizon, 0-0.47 deg up
+    return luminance_under(f, layer, ATMO_PASS_SKY, 0, 10.0, kHeight / 2 - 3, kHeight / 2);
+  };
+  AtmoCloudLayer deck = overcast_deck();
+  const double clear = horizon(nullptr);
+  const double under = horizon(&deck);
+  deck.area_centre_enu_m[0] = -150000.0;
+  const double elsewhere = horizon(&deck);
+  std::printf("sky 0-0.5 deg above the horizon (cd/m^2): clear %.1f, under an overcast %.1f (%.3f of clear), "
+              "the deck 150 km away %.1f (%.5f)\n",
+              clear, under, under / clear, elsewhere, elsewhere / clear);
+  EXPECT_GT(clear, 1000.0);
+  EXPECT_LT(under, 0.9 * clear);
+  EXPECT_GT(under, 0.2 * clear);  // beyond the deck's edge the air is sunlit
+  EXPECT_NEAR(elsewhere / clear, 1.0, 1e-3);
 }
