@@ -183,11 +183,14 @@ class Host {
   // The clouds pass alone: wall time from a drained queue to glFinish, ms (on
   // llvmpipe rasterisation is deferred, so a timer query can miss it); the
   // GL timer query's value in *query_ms.
-  double clouds_ms(double* query_ms = nullptr) {
+  double clouds_ms(double* query_ms = nullptr) { return pass_ms(ATMO_PASS_CLOUDS, query_ms); }
+
+  // One pass alone, timed as clouds_ms.
+  double pass_ms(AtmoPass pass, double* query_ms = nullptr) {
     glFinish();
     const auto start = std::chrono::steady_clock::now();
     glBeginQuery(GL_TIME_ELAPSED, query_);
-    render(ATMO_PASS_CLOUDS);
+    render(pass);
     glEndQuery(GL_TIME_ELAPSED);
     glFinish();
     const auto end = std::chrono::steady_clock::now();
@@ -224,7 +227,7 @@ inline AtmoCloudsState clouds_state(const AtmoCloudLayer* layer, uint32_t draw_m
   s.origin_geodetic[0] = kOriginLatDeg;
   s.origin_geodetic[1] = kOriginLonDeg;
   s.layers = layer;
-  s.layer_count = 1;
+  s.layer_count = layer ? 1 : 0;
   s.draw_mode = draw_mode;
   return s;
 }

@@ -76,6 +76,12 @@ struct World {
     glGenQueries(1, &query);
   }
 
+  void target_bind_and_clear() {
+    host.target().bind();
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+  }
+
   void setup(int draw_mode, size_t n) {
     if (draw_mode == mode && n == wanted) return;
     host.set_clouds(cloud_bench::clouds_state(&layer, uint32_t(draw_mode)));
@@ -124,6 +130,14 @@ double trivial_pass_ms(World& w, double* query_ms) {
   return ms;
 }
 
+// The median of 3 trivial passes: the ratio base timed between a benchmark's frames.
+double trivial_pass_median_ms(World& w) {
+  double t[3];
+  for (double& x : t) x = trivial_pass_ms(w, nullptr);
+  std::sort(t, t + 3);
+  return t[1];
+}
+
 void BM_TrivialFullScreenPass(benchmark::State& state) {
   World& w = world();
   double total_ms = 0.0, query_total_ms = 0.0;
@@ -164,12 +178,9 @@ void run_clouds(benchmark::State& state, int draw_mode) {
     query_total_ms += query_ms;
     state.SetIterationTime(ms * 1e-3);
     // The ratio base under the same load: the trivial pass right after each
-    // frame (the median of 3, outside the timed region).
+    // frame (outside the timed region).
     state.PauseTiming();
-    double t[3];
-    for (double& x : t) x = trivial_pass_ms(w, nullptr);
-    std::sort(t, t + 3);
-    trivial_total_ms += t[1];
+    trivial_total_ms += trivial_pass_median_ms(w);
     state.ResumeTiming();
   }
   const double it = std::max<double>(1.0, double(state.iterations()));
@@ -193,6 +204,39 @@ void run_clouds(benchmark::State& state, int draw_mode) {
   if (w.trivial_ms > 0.0) state.counters["x_trivial_bm"] = (total_ms / it) / w.trivial_ms;
 }
 
+// The sky pass alone at the start eye (800 m, under the layer's tops), with
+// no clouds (0), with the whole layer (1), whose shadow map of the Sun makes
+// the sky pass take the shadowed light off each ray's part under the clouds
+// (sky_pixel.glsl ATMO_SKY_CLOUD_SHADOW, its table built once), and with the
+// layer and the eye moving 5 m a frame (2: the table rebuilt every frame);
+// the trivial pass after each frame as in run_clouds.
+void BM_SkyPass(benchmark::State& state) {
+  World& w = world();
+  w.host.set_clouds(cloud_bench::clouds_state(state.range(0) ? &w.layer : nullptr, ATMO_CLOUD_DRAW_IMPOSTORS));
+  w.mode = -1;  // run_clouds sets its field up again
+  Camera cam = kStart;
+  w.host.set_view(cam);
+  w.target_bind_and_clear();
+  w.host.pass_ms(ATMO_PASS_SKY);  // builds the shadow map and the program variant
+  double total_ms = 0.0, trivial_total_ms = 0.0;
+  for (auto _ : state) {
+    if (state.range(0) == 2) {
+      cam.east_m += kStepEastM;
+      w.host.set_view(cam);
+    }
+    w.target_bind_and_clear();
+    const double ms = w.host.pass_ms(ATMO_PASS_SKY);
+    total_ms += ms;
+    state.SetIterationTime(ms * 1e-3);
+    state.PauseTiming();
+    trivial_total_ms += trivial_pass_median_ms(w);
+    state.ResumeTiming();
+  }
+  const double it = std::max<double>(1.0, double(state.iterations()));
+  state.counters["trivial_ms"] = trivial_total_ms / it;
+  if (trivial_total_ms > 0.0) state.counters["x_trivial"] = total_ms / trivial_total_ms;
+}
+
 void BM_Clouds_Impostors(benchmark::State& s) { run_clouds(s, ATMO_CLOUD_DRAW_IMPOSTORS); }
 void BM_Clouds_Direct(benchmark::State& s) { run_clouds(s, ATMO_CLOUD_DRAW_DIRECT); }
 
@@ -200,6 +244,7 @@ void BM_Clouds_Direct(benchmark::State& s) { run_clouds(s, ATMO_CLOUD_DRAW_DIREC
   BENCHMARK(name)->UseManualTime()->Unit(benchmark::kMillisecond)->ArgNames({"clouds"})
 // (No ArgNames here: with names but no arguments Google Benchmark drops the benchmark.)
 BENCHMARK(BM_TrivialFullScreenPass)->UseManualTime()->Unit(benchmark::kMillisecond)->MinTime(1.0);
+BENCHMARK(BM_SkyPass)->UseManualTime()->Unit(benchmark::kMillisecond)->ArgNames({"clouds"})->Arg(0)->Arg(1)->Arg(2)->MinTime(1.0);
 ATMO_CLOUD_BENCH(BM_Clouds_Impostors)->Arg(1)->Arg(10)->Arg(100)->Arg(500)->MinTime(2.0);
 // The direct march takes up to seconds a frame on llvmpipe: a fixed, small number of frames.
 ATMO_CLOUD_BENCH(BM_Clouds_Direct)->Arg(1)->Arg(10)->Iterations(5);

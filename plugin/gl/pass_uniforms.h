@@ -25,7 +25,9 @@ constexpr GLuint kAerialInscatterUnit = 4;
 constexpr GLuint kAerialTransmittanceUnit = 5;
 static_assert(kMoonSkyViewUnit == 6, "the moonlit sky-view table follows the aerial volume's units");
 constexpr GLuint kCloudShadowUnit = kMoonSkyViewUnit + 1;  // the clouds' shadow map (PassInputs::cloud_shadow)
-constexpr int kPassUnitsUsed = static_cast<int>(kCloudShadowUnit) + 1;
+// The sky's loss to the clouds' shadow, per direction (the sky pass's ATMO_SKY_CLOUD_SHADOW variant).
+constexpr GLuint kSkyCloudLossUnit = kCloudShadowUnit + 1;
+constexpr int kPassUnitsUsed = static_cast<int>(kSkyCloudLossUnit) + 1;
 
 struct PassUniforms {
   // Locations (-1 where a program does not use a uniform).

@@ -20,6 +20,15 @@ void append_key(std::vector<unsigned char>* key, const T& v) {
   const auto* b = reinterpret_cast<const unsigned char*>(&v);
   key->insert(key->end(), b, b + sizeof(T));
 }
+
+// The clouds' shadow in a table's key, field by field: the struct has padding.
+void append_cloud_shadow_key(std::vector<unsigned char>* key, const CloudShadowPass& s) {
+  append_key(key, s.texture);
+  append_key(key, s.version);
+  append_key(key, s.uv_from_eye_enu);
+  append_key(key, s.base_m);
+  append_key(key, s.top_m);
+}
 }  // namespace
 
 bool Renderer::init(ProcLoader loader, void* user, std::string* error) {
@@ -77,6 +86,8 @@ bool Renderer::build(Program* p, const char* fragment_path, SkyMethod method, st
   p->aerial_grid = glGetUniformLocation(p->program, "u_aerial_grid");
   p->slice = glGetUniformLocation(p->program, "u_slice");
   p->sin_sun_elevation = glGetUniformLocation(p->program, "u_sin_sun_elevation");
+  p->sky_cloud_loss = glGetUniformLocation(p->program, "u_sky_cloud_loss");
+  p->sky_cloud_loss_size = glGetUniformLocation(p->program, "u_sky_cloud_loss_size");
   return true;
 }
 
@@ -87,12 +98,13 @@ void Renderer::destroy() {
       if (v.program) glDeleteProgram(v.program);
     if (aerial_[m].program) glDeleteProgram(aerial_[m].program);
   }
-  for (Program* p : {&sky_view_builder_, &aerial_volume_builder_})
+  for (Program* p : {&sky_view_builder_, &aerial_volume_builder_, &sky_cloud_loss_builder_})
     if (p->program) glDeleteProgram(p->program);
   if (vao_) glDeleteVertexArrays(1, &vao_);
   if (fbo_) glDeleteFramebuffers(1, &fbo_);
   for (GLuint* t : {&transmittance_texture_, &multiple_scattering_texture_, &sky_view_texture_,
-                    &aerial_inscatter_texture_, &aerial_transmittance_texture_, &moon_sky_view_texture_})
+                    &aerial_inscatter_texture_, &aerial_transmittance_texture_, &moon_sky_view_texture_,
+                    &sky_cloud_loss_texture_})
     if (*t) glDeleteTextures(1, t);
   if (linear_sampler_) glDeleteSamplers(1, &linear_sampler_);
   if (nearest_sampler_) glDeleteSamplers(1, &nearest_sampler_);
@@ -104,7 +116,9 @@ void Renderer::forget() {
     sky_[m] = aerial_[m] = Program{};
     for (Program& v : sky_variants_[m]) v = Program{};
   }
-  sky_view_builder_ = aerial_volume_builder_ = Program{};
+  sky_view_builder_ = aerial_volume_builder_ = sky_cloud_loss_builder_ = Program{};
+  sky_cloud_loss_texture_ = 0;
+  sky_cloud_loss_key_.clear();
   vao_ = fbo_ = transmittance_texture_ = multiple_scattering_texture_ = 0;
   sky_view_texture_ = aerial_inscatter_texture_ = aerial_transmittance_texture_ = moon_sky_view_texture_ = 0;
   linear_sampler_ = nearest_sampler_ = 0;
@@ -164,6 +178,8 @@ void Renderer::set_uniforms(const Program& p, const PassInputs& in, int steps) c
   set_pass_uniforms(p.pass, in, sizes, steps, in.night);
   glUniform2f(p.aerial_grid, static_cast<float>(settings_.aerial_width), static_cast<float>(settings_.aerial_height));
   glUniform1f(p.sin_sun_elevation, in.sun_direction_enu.z);
+  glUniform1i(p.sky_cloud_loss, static_cast<GLint>(kSkyCloudLossUnit));
+  glUniform2f(p.sky_cloud_loss_size, static_cast<float>(kSkyCloudLossWidth), static_cast<float>(kSkyCloudLossHeight));
 }
 
 void Renderer::bind_textures(GLuint depth_texture, GLuint cloud_shadow_texture) const {
@@ -180,6 +196,7 @@ void Renderer::bind_textures(GLuint depth_texture, GLuint cloud_shadow_texture) 
   bind(kAerialTransmittanceUnit, GL_TEXTURE_3D, aerial_transmittance_texture_, linear_sampler_);
   bind(kMoonSkyViewUnit, GL_TEXTURE_2D, moon_sky_view_texture_, linear_sampler_);
   bind(kCloudShadowUnit, GL_TEXTURE_2D, cloud_shadow_texture, linear_sampler_);
+  bind(kSkyCloudLossUnit, GL_TEXTURE_2D, sky_cloud_loss_texture_, linear_sampler_);
 }
 
 void Renderer::render_sky_view(const PassInputs& in, GLuint texture) {
@@ -210,6 +227,44 @@ bool Renderer::ensure_sky_view(const PassInputs& in, std::string* error) {
   if (!check_gl("building the sky-view table", error)) return false;
   sky_view_key_ = std::move(key);
   ++counters_.sky_view_builds;
+  return true;
+}
+
+bool Renderer::ensure_sky_cloud_loss(const PassInputs& in, std::string* error) {
+  std::vector<unsigned char> key;
+  append_key(&key, tables_version_);
+  append_key(&key, in.atmosphere);
+  append_key(&key, in.eye_altitude_m);
+  append_key(&key, in.sun_direction_enu);
+  append_cloud_shadow_key(&key, in.cloud_shadow);
+  if (sky_cloud_loss_texture_ && key == sky_cloud_loss_key_) return true;
+  GlStateGuard guard(kUnitsUsed);
+  if (!sky_cloud_loss_builder_.program &&
+      !build(&sky_cloud_loss_builder_, "sky_cloud_loss_lut.frag", SkyMethod::kLut, error))
+    return false;
+  if (!sky_cloud_loss_texture_) {
+    glGenTextures(1, &sky_cloud_loss_texture_);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, sky_cloud_loss_texture_);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, kSkyCloudLossWidth, kSkyCloudLossHeight, 0, GL_RGBA, GL_FLOAT,
+                 nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+  }
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
+  glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, sky_cloud_loss_texture_, 0);
+  glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, 0, 0);
+  const GLenum buffers[1] = {GL_COLOR_ATTACHMENT0};
+  glDrawBuffers(1, buffers);
+  glDisablei(GL_BLEND, 0);
+  glViewport(0, 0, kSkyCloudLossWidth, kSkyCloudLossHeight);
+  glUseProgram(sky_cloud_loss_builder_.program);
+  set_uniforms(sky_cloud_loss_builder_, in, 0);
+  bind_textures(0, in.cloud_shadow.texture);
+  glBindVertexArray(vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  if (!check_gl("building the sky's cloud-shadow table", error)) return false;
+  sky_cloud_loss_key_ = std::move(key);
+  ++counters_.sky_cloud_loss_builds;
   return true;
 }
 
@@ -256,11 +311,7 @@ bool Renderer::ensure_aerial_volume(const PassInputs& in, std::string* error) {
   append_key(&key, in.view_from_clip);
   append_key(&key, in.depth_convention);
   append_key(&key, in.aerial_range_m);
-  append_key(&key, in.cloud_shadow.texture);  // field by field: the struct has padding
-  append_key(&key, in.cloud_shadow.version);
-  append_key(&key, in.cloud_shadow.uv_from_eye_enu);
-  append_key(&key, in.cloud_shadow.base_m);
-  append_key(&key, in.cloud_shadow.top_m);
+  append_cloud_shadow_key(&key, in.cloud_shadow);
   if (derived_allocated_ && key == aerial_key_) return true;
   {
     GlStateGuard guard(kUnitsUsed);
@@ -369,6 +420,7 @@ bool Renderer::draw_sky(const PassInputs& in, std::string* error) {
   // above, the clouds hide the air they shadow).
   const glm::vec4 eye_in_clouds = in.cloud_shadow.uv_from_eye_enu * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
   const bool cloud_shadow = in.cloud_shadow.texture != 0 && eye_in_clouds.z < in.cloud_shadow.top_m;
+  if (cloud_shadow && !ensure_sky_cloud_loss(in, error)) return false;
   const int m = static_cast<int>(in.method), bits = in.night.bits() | (cloud_shadow ? kSkyCloudShadowBit : 0);
   auto variant = [&](int b) -> const Program* {
     if (b == 0) return &sky_[m];

@@ -156,7 +156,7 @@ class Renderer {
   static constexpr float kMoonSkyViewLightStep = 0.01f;
 
   struct Counters {
-    uint64_t sky_view_builds = 0, aerial_volume_builds = 0, moon_sky_view_builds = 0;
+    uint64_t sky_view_builds = 0, aerial_volume_builds = 0, moon_sky_view_builds = 0, sky_cloud_loss_builds = 0;
   };
   const Counters& counters() const { return counters_; }
 
@@ -165,7 +165,12 @@ class Renderer {
     GLuint program = 0;
     PassUniforms pass;  // pass_common.glsl's uniforms, looked up once after linking
     GLint aerial_grid = -1, slice = -1, sin_sun_elevation = -1;  // the table builders' own
+    GLint sky_cloud_loss = -1, sky_cloud_loss_size = -1;  // the sky cloud-loss table (builder, sky variant)
   };
+  // The sky's loss to the clouds' shadow (sky_cloud_loss_lut.frag), rebuilt when the eye, the Sun, the air or
+  // the map changes: a table per view direction, so the sky pass pays one fetch for it.
+  bool ensure_sky_cloud_loss(const PassInputs& in, std::string* error);
+  static constexpr int kSkyCloudLossWidth = 128, kSkyCloudLossHeight = 64;
   // sky_variant (sky.frag only): bits 0-2 sky_pixel.glsl's ATMO_NIGHT_TERMS, kSkyCloudShadowBit its
   // ATMO_SKY_CLOUD_SHADOW.
   bool build(Program* p, const char* fragment_path, SkyMethod method, std::string* error, int sky_variant = 0);
@@ -201,6 +206,7 @@ class Renderer {
   static constexpr int kSkyCloudShadowBit = 8;
   static constexpr int kSkyVariants = 16;
   Program sky_[kMethods], sky_variants_[kMethods][kSkyVariants], aerial_[kMethods], sky_view_builder_,
+      sky_cloud_loss_builder_,
       aerial_volume_builder_;
   GLuint vao_ = 0, fbo_ = 0;
   GLuint transmittance_texture_ = 0, multiple_scattering_texture_ = 0;
@@ -212,7 +218,8 @@ class Renderer {
   bool derived_allocated_ = false;
   uint64_t tables_version_ = 0;  // bumps on every upload: derived tables depend on it
   // The inputs each derived table was last built from (bytes compared).
-  std::vector<unsigned char> sky_view_key_, aerial_key_;
+  std::vector<unsigned char> sky_view_key_, aerial_key_, sky_cloud_loss_key_;
+  GLuint sky_cloud_loss_texture_ = 0;
   // The moonlit table: what it was built for (key without the Moon), the Moon's elevation sine and light.
   std::vector<unsigned char> moon_sky_view_key_;
   float moon_sky_view_sin_elevation_ = 0.0f;

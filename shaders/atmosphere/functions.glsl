@@ -303,6 +303,26 @@ ATMO_FN float cloud_shadow_reach(IN(CloudShadowing) cs, IN(vec3) dir) {
   return t_out > t_in ? t_out : 0.0f;
 }
 
+// The sky's loss to the clouds' shadow is tabulated per view direction
+// (sky_cloud_loss_lut.frag): u the azimuth in the eye's ENU (east = 0.5,
+// wrapping at west), v the elevation, sqrt-spaced from the horizon (v = 0.5)
+// to the zenith (1) and the nadir (0), where the loss changes fastest. x in
+// [0, 1]^2 runs over texel centres, from the first to the last.
+ATMO_FN vec3 sky_cloud_loss_direction(IN(vec2) x) {
+  float azimuth = (2.0f * x.x - 1.0f) * ATMO_PI;
+  float s = 2.0f * x.y - 1.0f;
+  float elevation = s * abs(s) * (0.5f * ATMO_PI);
+  return vec3(cos(elevation) * cos(azimuth), cos(elevation) * sin(azimuth), sin(elevation));
+}
+
+ATMO_FN vec2 sky_cloud_loss_uv(IN(vec3) dir, IN(vec2) table_size) {
+  float azimuth = atan(dir.y, dir.x);
+  float elevation = asin(clamp(dir.z, -1.0f, 1.0f));
+  float s = elevation / (0.5f * ATMO_PI);
+  vec2 x = vec2(0.5f + 0.5f * azimuth / ATMO_PI, 0.5f + 0.5f * sign(s) * sqrt(abs(s)));
+  return (x * (table_size - 1.0f) + 0.5f) / table_size;
+}
+
 // The share of the light a cloud passes diffusely, given its direct
 // transmittance: a conservative two-stream slab of optical depth tau =
 // -ln(direct) and droplet asymmetry 0.85 lets 1 / (1 + 0.75 (1 - 0.85) tau)

@@ -84,19 +84,12 @@ vec3 analytic_sky(vec3 dir) {
 #define ATMO_SKY_CLOUD_SHADOW 0
 #endif
 #if ATMO_SKY_CLOUD_SHADOW != 0
-// Samples along the part of the ray under the clouds (up to ~100 km).
-const int kSkyCloudShadowSteps = 24;
+uniform sampler2D u_sky_cloud_loss;  // sky_cloud_loss_lut.frag's table, cd/m^2
+uniform vec2 u_sky_cloud_loss_size;
 
-// The light the clouds' shadow takes from the sky in `dir`: the air's
-// scattering along the ray up to where it leaves the clouds' layer or map,
-// unshadowed less shadowed (integrate_scattering_shadowed).
+// The light the clouds' shadow takes from the sky in `dir`.
 vec3 sky_cloud_shadow_loss(vec3 dir) {
-  float reach = cloud_shadow_reach(u_cloud_shadowing, dir);
-  if (reach <= 0.0f) return vec3(0.0f);
-  return integrate_scattering_shadowed(u_atmosphere, u_transmittance, u_transmittance_size, u_multiple_scattering,
-                                       u_multiple_scattering_size, u_eye_altitude_m, dir, u_sun_direction_enu, reach,
-                                       kSkyCloudShadowSteps, u_cloud_shadowing, u_cloud_shadow)
-      .shadowed_away;
+  return texture(u_sky_cloud_loss, sky_cloud_loss_uv(dir, u_sky_cloud_loss_size)).rgb;
 }
 #endif
 
