@@ -199,21 +199,27 @@ void Renderer::bind_textures(GLuint depth_texture, GLuint cloud_shadow_texture) 
   bind(kSkyCloudLossUnit, GL_TEXTURE_2D, sky_cloud_loss_texture_, linear_sampler_);
 }
 
-void Renderer::render_sky_view(const PassInputs& in, GLuint texture) {
-  GlStateGuard guard(kUnitsUsed);
-  if (!derived_allocated_) allocate_derived_tables();
+void Renderer::render_2d_table(const Program& builder, const PassInputs& in, int steps, GLuint texture, int width,
+                               int height, GLuint cloud_shadow_texture) {
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
   glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, texture, 0);
   glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, 0, 0);
   const GLenum buffers[1] = {GL_COLOR_ATTACHMENT0};
   glDrawBuffers(1, buffers);
   glDisablei(GL_BLEND, 0);
-  glViewport(0, 0, settings_.sky_view_width, settings_.sky_view_height);
-  glUseProgram(sky_view_builder_.program);
-  set_uniforms(sky_view_builder_, in, settings_.sky_view_steps);
-  bind_textures(0, 0);
+  glViewport(0, 0, width, height);
+  glUseProgram(builder.program);
+  set_uniforms(builder, in, steps);
+  bind_textures(0, cloud_shadow_texture);
   glBindVertexArray(vao_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+void Renderer::render_sky_view(const PassInputs& in, GLuint texture) {
+  GlStateGuard guard(kUnitsUsed);
+  if (!derived_allocated_) allocate_derived_tables();
+  render_2d_table(sky_view_builder_, in, settings_.sky_view_steps, texture, settings_.sky_view_width,
+                  settings_.sky_view_height, 0);
 }
 
 bool Renderer::ensure_sky_view(const PassInputs& in, std::string* error) {
@@ -250,18 +256,8 @@ bool Renderer::ensure_sky_cloud_loss(const PassInputs& in, std::string* error) {
                  nullptr);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
   }
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
-  glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, sky_cloud_loss_texture_, 0);
-  glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, 0, 0);
-  const GLenum buffers[1] = {GL_COLOR_ATTACHMENT0};
-  glDrawBuffers(1, buffers);
-  glDisablei(GL_BLEND, 0);
-  glViewport(0, 0, kSkyCloudLossWidth, kSkyCloudLossHeight);
-  glUseProgram(sky_cloud_loss_builder_.program);
-  set_uniforms(sky_cloud_loss_builder_, in, 0);
-  bind_textures(0, in.cloud_shadow.texture);
-  glBindVertexArray(vao_);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
+  render_2d_table(sky_cloud_loss_builder_, in, 0, sky_cloud_loss_texture_, kSkyCloudLossWidth, kSkyCloudLossHeight,
+                  in.cloud_shadow.texture);
   if (!check_gl("building the sky's cloud-shadow table", error)) return false;
   sky_cloud_loss_key_ = std::move(key);
   ++counters_.sky_cloud_loss_builds;

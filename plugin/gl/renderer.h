@@ -192,6 +192,9 @@ class Renderer {
   bool ensure_moon_sky_view(const PassInputs& in, std::string* error);
   // Renders the sky-view table of `in` (its sun and air) into `texture`.
   void render_sky_view(const PassInputs& in, GLuint texture);
+  // One full-screen draw of `builder` into a 2D table (width x height texels), inside the caller's GlStateGuard.
+  void render_2d_table(const Program& builder, const PassInputs& in, int steps, GLuint texture, int width, int height,
+                       GLuint cloud_shadow_texture);
   bool ensure_aerial_volume(const PassInputs& in, std::string* error);
   void allocate_derived_tables();
   // Table sizes; reallocates and invalidates the derived tables when they change.
