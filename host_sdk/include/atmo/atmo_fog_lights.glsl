@@ -1,0 +1,235 @@
+// atmo_fog_lights.glsl — light from point lights in fog, for the HOST's own
+// surface shaders (the runway, terrain, vehicles lit by approach lights and
+// headlights in fog) and for the plugin's glow pass, which includes this file
+// so that both evaluate one text. docs/FOG.md derives every term.
+//
+// The model (Sun, Ramamoorthi, Narasimhan & Nayar 2005, with the changes in
+// docs/FOG.md): a homogeneous fog of extinction beta (1/m), single-scattering
+// albedo and a Henyey-Greenstein phase function, up to an optional top.
+//   - airlight (the glow): single scattering along the view ray, from the
+//     paper's closed form rewritten so that no two large numbers are
+//     subtracted (docs/FOG.md, "the stable form"); the special function is a
+//     table (atmo_fog_airlight_table) that folds in the phase function;
+//   - surfaces: the direct light dimmed by the fog, plus the light the fog
+//     scattered onto the surface (the paper's G tables, one per Phong
+//     exponent, atmo_fog_surface_table);
+//   - multiple scattering: a diffusion (P1) term that takes over from single
+//     scattering with optical thickness (docs/FOG.md, "the handover").
+//
+// HOST USE (GLSL 3.30+ fragment shader):
+//   Each frame, after set_view: api.get_fog_lighting(view, &fog) (AtmoFogLighting).
+//   If fog.light_count == 0 nothing here adds light: skip it.
+//   Bind fog.surface_table to a sampler2D named atmo_fog_surface_table and
+//   fog.light_texture to atmo_fog_light_texture, and set the uniforms
+//     atmo_fog_medium      = vec4(fog.medium)          (extinction, albedo, top above the eye, unused)
+//     atmo_fog_diffusion   = vec4(fog.diffusion)       (see AtmoFogLighting)
+//     atmo_fog_up          = vec3(fog.up_world)        (unit up at the eye, world axes)
+//     atmo_fog_surface_table_size = vec2(fog.surface_table_size)
+//     atmo_fog_light_count = int(fog.light_count)
+//   then, per fragment:
+//     vec3 L = atmo_fog_lights_surface(position_rel_eye_m, normal, kd, ks, exponent);
+//   position_rel_eye_m: the fragment's position minus the eye's, metres, in the
+//   view's world axes (what a camera-relative renderer has); normal unit, same
+//   axes; kd = albedo / pi and ks the Phong weight (the BRDF is
+//   kd + ks * cos^n(angle to the mirror direction), as in the paper). L is the
+//   radiance the surface sends towards the eye (cd/m^2, linear RGB) BEFORE the
+//   fog between surface and eye: ATMO_PASS_LIGHT_GLOWS applies that (and adds
+//   the glows), as ATMO_PASS_AERIAL_PERSPECTIVE does for the air. Multiply by
+//   your exposure if you render in scaled units.
+//
+// Everything above the "#ifndef ATMO_TWIN" line is written in the subset the
+// plugin's C++ twin compiles (float literals with f, no swizzles), so the CPU
+// evaluates the same text as the GPU.
+#ifndef ATMO_FOG_LIGHTS_GLSL
+#define ATMO_FOG_LIGHTS_GLSL
+
+#ifndef ATMO_FOG_FN
+#define ATMO_FOG_FN
+#endif
+#ifndef ATMO_FOG_TABLE
+#define ATMO_FOG_TABLE sampler2D
+#define ATMO_FOG_IN(T) T
+float atmo_fog_table_fetch(sampler2D table, vec2 uv) { return texture(table, uv).r; }
+#endif
+
+const float ATMO_FOG_PI = 3.14159265358979f;
+// "No surface on this ray" / "no fog top": distances and heights beyond this.
+const float ATMO_FOG_FAR = 1.0e30f;
+// Phong exponents with a surface table layer: 2^0 .. 2^8 (layer 0 is the Lambertian cosine).
+const float ATMO_FOG_SURFACE_LAYERS = 9.0f;
+
+// Texture coordinate of sample position x in [0, 1] on a grid of n samples
+// that includes both ends (texel i holds x = i / (n - 1)).
+ATMO_FOG_FN float atmo_fog_grid(float x, float n) { return (clamp(x, 0.0f, 1.0f) * (n - 1.0f) + 0.5f) / n; }
+
+// Table coordinate of an optical thickness or of u in [0, inf): sqrt(u / (1 + u)),
+// dense near 0 where the functions have a u log u term, and reaching u = inf at 1.
+ATMO_FOG_FN float atmo_fog_thickness_coordinate(float u) { return sqrt(u / (1.0f + u)); }
+
+// The shape of Ghat near v = pi/2 (y = pi/2 - v small), where it changes
+// from q y (y >> u) to q y^2 / u (y << u) within a sliver no grid resolves:
+// Ghat -> q(pi) y K(u / y), K(a) = 1 - a e^a E_1(a) (E_1 from Abramowitz &
+// Stegun 5.1.53 and 5.1.56). The table holds Ghat / (y K(u / y)), smooth
+// everywhere; only this function's smoothness matters, not its accuracy, as
+// the table is built with the same function.
+ATMO_FOG_FN float atmo_fog_ghat_scale(float u, float y) {
+  float a = u / max(y, 1.0e-30f);
+  float k;
+  if (a < 1.0f) {
+    float e1_plus_log = -0.57721566f + a * (0.99999193f + a * (-0.24991055f + a * (0.05519968f +
+                        a * (-0.00976004f + a * 0.00107857f))));
+    k = 1.0f - a * exp(a) * (e1_plus_log - log(max(a, 1.0e-30f)));
+  } else {
+    k = (0.995924f * a + 1.430913f) / (a * a + 3.330657f * a + 1.681534f);
+  }
+  return y * k;
+}
+
+// The phase-weighted special function of the stable form,
+//   Ghat(u, v) = integral_v^{pi/2} 4 pi p(2 xi) exp(-u (tan xi - tan v)) d xi,
+// from the table, which holds Ghat / atmo_fog_ghat_scale on the grid
+// (thickness coordinate of u) x (v / (pi/2)). Ghat(0, v) = pi/2 - v for
+// isotropic scattering.
+ATMO_FOG_FN float atmo_fog_ghat(ATMO_FOG_IN(ATMO_FOG_TABLE) table, float size, float u, float v) {
+  float x = atmo_fog_thickness_coordinate(u);
+  float y = v * (2.0f / ATMO_FOG_PI);
+  return atmo_fog_table_fetch(table, vec2(atmo_fog_grid(x, size), atmo_fog_grid(y, size))) *
+         atmo_fog_ghat_scale(u, max(0.5f * ATMO_FOG_PI - v, 0.0f));
+}
+
+// Fraction of the straight path between heights z0 and z1 (metres, any
+// reference) that lies below the fog top `top` (same reference): the fog's
+// optical thickness along the path is extinction * length * this.
+ATMO_FOG_FN float atmo_fog_inside_fraction(float z0, float z1, float top) {
+  float lo = min(z0, z1);
+  float hi = max(z0, z1);
+  if (hi - lo < 1.0e-3f) return lo < top ? 1.0f : 0.0f;
+  return clamp((top - lo) / (hi - lo), 0.0f, 1.0f);
+}
+
+// A cone light's relative intensity towards unit direction `dir` (from the
+// light); 1 for an omnidirectional light (cos_outer < -1.5).
+ATMO_FOG_FN float atmo_fog_cone(vec3 axis, float cos_inner, float cos_outer, vec3 dir) {
+  if (cos_outer < -1.5f) return 1.0f;
+  return smoothstep(cos_outer, cos_inner, dot(axis, dir));
+}
+
+// Single-scattered light (airlight) per unit intensity arriving at the eye
+// along a view ray, from a point light `distance` metres away at cos_gamma to
+// the ray, the ray ending on a surface at d_vp metres (ATMO_FOG_FAR: none).
+// beta: extinction (1/m); multiply by albedo and the intensity (cd) for cd/m^2.
+//   La = beta / (2 pi h) [exp(-beta D) Ghat(beta h, gamma/2)
+//                         - exp(-beta (d_vp + d_sp)) Ghat(beta h, v1)]
+// with h = D sin(gamma) the light's distance from the ray's line, d_sp the
+// light's distance from the surface point and v1 = pi/4 + atan2(d_vp - D cos(gamma), h) / 2.
+// Both terms are positive and well scaled, whatever the angle (docs/FOG.md).
+// min_sin: floor of sin(gamma) (the pixel's angular radius / 2: the mean of
+// the 1/gamma core over a pixel).
+ATMO_FOG_FN float atmo_fog_airlight(ATMO_FOG_IN(ATMO_FOG_TABLE) table, float size, float beta, float distance,
+                                    float cos_gamma, float d_vp, float min_sin) {
+  if (d_vp <= 0.0f) return 0.0f;
+  float cg = clamp(cos_gamma, -1.0f, 1.0f);
+  float sg = max(sqrt(max(1.0f - cg * cg, 0.0f)), min_sin);
+  float gamma = atan(sg, cg);
+  float h = max(distance * sg, 1.0e-4f);
+  float u = beta * h;
+  float near_term = exp(-beta * distance) * atmo_fog_ghat(table, size, u, 0.5f * gamma);
+  float along = d_vp - distance * cg;
+  float d_sp = sqrt(along * along + h * h);
+  float v1 = 0.25f * ATMO_FOG_PI + 0.5f * atan(along, h);
+  float far_term = d_vp >= ATMO_FOG_FAR ? 0.0f : exp(-beta * (d_vp + d_sp)) * atmo_fog_ghat(table, size, u, v1);
+  return beta / (2.0f * ATMO_FOG_PI * h) * max(near_term - far_term, 0.0f);
+}
+
+// The surface table's G_n(T, theta) (the paper's eq. 16 with the phase
+// function folded in; n = 1 is the Lambertian G_0): rows are layers of
+// exponent 2^k, k = 0..8, each `size.y` rows of theta in [0, pi] by `size.x`
+// columns of the thickness coordinate of T; texels hold (1 + T) e^T G_n.
+// Between exponents the layers are interpolated in log2(n). Returns e^T G_n.
+ATMO_FOG_FN float atmo_fog_surface_g(ATMO_FOG_IN(ATMO_FOG_TABLE) table, vec2 size, float thickness, float theta,
+                                     float exponent) {
+  float x = atmo_fog_grid(atmo_fog_thickness_coordinate(thickness), size.x);
+  float k = clamp(log2(max(exponent, 1.0f)), 0.0f, ATMO_FOG_SURFACE_LAYERS - 1.0f);
+  float k0 = min(floor(k), ATMO_FOG_SURFACE_LAYERS - 2.0f);
+  float row = clamp(theta / ATMO_FOG_PI, 0.0f, 1.0f) * (size.y - 1.0f) + 0.5f;  // texel row inside a layer
+  float rows = size.y * ATMO_FOG_SURFACE_LAYERS;
+  float g0 = atmo_fog_table_fetch(table, vec2(x, (k0 * size.y + row) / rows));
+  float g1 = atmo_fog_table_fetch(table, vec2(x, ((k0 + 1.0f) * size.y + row) / rows));
+  return mix(g0, g1, k - k0) / (1.0f + thickness);
+}
+
+// Diffusion (P1) light of a point light, per unit intensity, at `distance`
+// metres: x = fluence (per sr-weighted cd: cd/m^2 * sr), y = net flux (lux per
+// cd, away from the light). diffusion = (sigma_tr, mu, rate, on):
+// sigma_tr = beta (1 - albedo g) the transport coefficient, mu the decay
+// (absorption and escape through the top), rate the handover: the term is
+// scaled by 1 - exp(-rate * thickness), ~0 where single scattering holds.
+// thickness: the fog's optical thickness between the light and the point.
+ATMO_FOG_FN vec2 atmo_fog_diffusion_light(vec4 diffusion, float distance, float thickness) {
+  float r = max(distance, 0.5f);
+  float handover = (1.0f - exp(-diffusion.z * thickness)) * diffusion.w;
+  float e = exp(-diffusion.y * r);
+  return vec2(3.0f * diffusion.x * e / r, (1.0f + diffusion.y * r) * e / (r * r)) * handover;
+}
+
+// Radiance per unit intensity that a surface at distance d_sp from a light
+// sends out, for BRDF kd + ks cos^n: x = the kd part, y = the ks part.
+// thickness = the fog's optical thickness light -> surface, cos_s = cos of
+// the angle normal-light, cos_r = cos of the angle mirror direction-light.
+ATMO_FOG_FN vec2 atmo_fog_surface_terms(ATMO_FOG_IN(ATMO_FOG_TABLE) table, vec2 size, float beta_path, float albedo,
+                                        vec4 diffusion, float d_sp, float thickness, float cos_s, float cos_r,
+                                        float exponent) {
+  float d = max(d_sp, 1.0e-3f);
+  float direct = exp(-thickness) / (d * d);
+  float scattered = albedo * beta_path / (2.0f * ATMO_FOG_PI * d) * exp(-thickness);
+  float theta_s = acos(clamp(cos_s, -1.0f, 1.0f));
+  float theta_r = acos(clamp(cos_r, -1.0f, 1.0f));
+  vec2 p1 = atmo_fog_diffusion_light(diffusion, d, thickness);
+  float diffuse = direct * max(cos_s, 0.0f) + scattered * atmo_fog_surface_g(table, size, thickness, theta_s, 1.0f) +
+                  max(0.25f * p1.x + 0.5f * p1.y * cos_s, 0.0f);
+  float specular = direct * pow(max(cos_r, 0.0f), exponent) +
+                   scattered * atmo_fog_surface_g(table, size, thickness, theta_r, exponent) +
+                   max(p1.x + 3.0f * p1.y * cos_r, 0.0f) / (2.0f * (exponent + 1.0f));
+  return vec2(diffuse, specular);
+}
+
+#ifndef ATMO_TWIN
+#ifndef ATMO_FOG_NO_UNIFORMS
+uniform sampler2D atmo_fog_surface_table;
+uniform sampler2D atmo_fog_light_texture;  // RGBA32F, 4 texels per light (one row each)
+uniform vec4 atmo_fog_medium;              // extinction 1/m, albedo, top height above the eye m, unused
+uniform vec4 atmo_fog_diffusion;           // sigma_tr 1/m, mu 1/m, handover rate, on (0/1)
+uniform vec3 atmo_fog_up;                  // unit up at the eye, world axes
+uniform vec2 atmo_fog_surface_table_size;
+uniform int atmo_fog_light_count;
+
+// Sum over the plugin's lights (set_lights) of the light a surface sends
+// towards the eye, cd/m^2, before the fog between surface and eye.
+// Lights beyond their range (the distance where they add under the glow
+// threshold) are skipped.
+vec3 atmo_fog_lights_surface(vec3 position_rel_eye_m, vec3 normal, vec3 kd, vec3 ks, float exponent) {
+  vec3 sum = vec3(0.0);
+  vec3 to_eye = normalize(-position_rel_eye_m);
+  vec3 mirror = reflect(-to_eye, normal);
+  float z_point = dot(position_rel_eye_m, atmo_fog_up);
+  for (int i = 0; i < atmo_fog_light_count; ++i) {
+    vec4 t0 = texelFetch(atmo_fog_light_texture, ivec2(0, i), 0);  // position rel eye, range m
+    vec3 to_light = t0.xyz - position_rel_eye_m;
+    float d = length(to_light);
+    if (d > t0.w) continue;
+    vec4 t1 = texelFetch(atmo_fog_light_texture, ivec2(1, i), 0);  // intensity * colour (cd), cos_inner
+    vec4 t2 = texelFetch(atmo_fog_light_texture, ivec2(2, i), 0);  // cone axis, cos_outer
+    vec3 l = to_light / max(d, 1.0e-3);
+    float cone = atmo_fog_cone(t2.xyz, t1.w, t2.w, -l);
+    if (cone <= 0.0) continue;
+    float beta = atmo_fog_medium.x * atmo_fog_inside_fraction(z_point, dot(t0.xyz, atmo_fog_up), atmo_fog_medium.z);
+    vec2 terms = atmo_fog_surface_terms(atmo_fog_surface_table, atmo_fog_surface_table_size, beta, atmo_fog_medium.y,
+                                        atmo_fog_diffusion, d, beta * d, dot(normal, l), dot(mirror, l), exponent);
+    sum += t1.rgb * cone * (kd * terms.x + ks * terms.y);
+  }
+  return sum;
+}
+#endif  // ATMO_FOG_NO_UNIFORMS
+#endif  // ATMO_TWIN
+
+#endif  // ATMO_FOG_LIGHTS_GLSL

@@ -1,0 +1,37 @@
+// fog_twin.h — compiles host_sdk/include/atmo/atmo_fog_lights.glsl as C++
+// over GLM, in float like the GPU, with the tables sampled as GL_LINEAR +
+// CLAMP_TO_EDGE does: the CPU evaluates the text the glow pass and the
+// hosts' surface shaders run (core/shader_twin.h does this for the sky).
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include "core/fog/fog_model.h"
+
+namespace atmo::fog::twin {
+
+using namespace glm;
+
+// texture(sampler2D, uv).r for a GL_R32F table with GL_LINEAR, GL_CLAMP_TO_EDGE.
+inline float atmo_fog_table_fetch(const FogTable& t, const vec2& uv) {
+  const float fx = uv.x * t.width - 0.5f, fy = uv.y * t.height - 0.5f;
+  const int x0 = static_cast<int>(floor(fx)), y0 = static_cast<int>(floor(fy));
+  const float ax = fx - x0, ay = fy - y0;
+  auto cx = [&](int x) { return x < 0 ? 0 : (x >= t.width ? t.width - 1 : x); };
+  auto cy = [&](int y) { return y < 0 ? 0 : (y >= t.height ? t.height - 1 : y); };
+  const float a = mix(t.at(cx(x0), cy(y0)), t.at(cx(x0 + 1), cy(y0)), ax);
+  const float b = mix(t.at(cx(x0), cy(y0 + 1)), t.at(cx(x0 + 1), cy(y0 + 1)), ax);
+  return mix(a, b, ay);
+}
+
+#define ATMO_TWIN
+#define ATMO_FOG_FN inline
+#define ATMO_FOG_TABLE FogTable
+#define ATMO_FOG_IN(T) const T&
+#include "atmo/atmo_fog_lights.glsl"
+#undef ATMO_FOG_IN
+#undef ATMO_FOG_TABLE
+#undef ATMO_FOG_FN
+#undef ATMO_TWIN
+
+}  // namespace atmo::fog::twin
