@@ -14,32 +14,10 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// xoshiro256** seeded through splitmix64: fast, 64-bit output (53-bit doubles),
-// and a stream per (seed, row/block) so results never depend on scheduling.
-uint64_t splitmix64(uint64_t& x) {
-  uint64_t z = (x += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
+using monte_carlo::basis;
+using monte_carlo::sample_hg_cos;
+using monte_carlo::splitmix64;
 using Rng = PathRng;
-
-// Inverse CDF of Henyey-Greenstein in cos theta.
-double sample_hg_cos(double g, double u) {
-  if (std::abs(g) < 1e-5) return 1.0 - 2.0 * u;
-  const double s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u);
-  return std::clamp((1.0 + g * g - s * s) / (2.0 * g), -1.0, 1.0);
-}
-
-// Unit vectors b1, b2 orthogonal to n (Duff et al. 2017).
-void basis(const glm::dvec3& n, glm::dvec3& b1, glm::dvec3& b2) {
-  const double sign = std::copysign(1.0, n.z);
-  const double a = -1.0 / (sign + n.z);
-  const double b = n.x * n.y * a;
-  b1 = glm::dvec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-  b2 = glm::dvec3(b, sign + n.y * n.y * a, -n.y);
-}
 
 // The cloud in index space: positions and lengths in voxels, extinction per voxel.
 struct Medium {
@@ -231,11 +209,10 @@ void parallel_for(int n, int threads, F&& job) {
 
 }  // namespace
 
-PathRng::PathRng(uint64_t seed, uint64_t stream) {
+uint64_t PathRng::stream_state(uint64_t seed, uint64_t stream) {
   uint64_t x = seed;
   const uint64_t h = splitmix64(x);
-  x = h ^ (stream * 0xD1B54A32D192ED03ull + 0x8CB92BA72F3D8DD7ull);
-  for (auto& v : s_) v = splitmix64(x);
+  return h ^ (stream * 0xD1B54A32D192ED03ull + 0x8CB92BA72F3D8DD7ull);
 }
 
 PhaseSample sample_cloud_phase(const twin::CloudPhase& ph, const glm::dvec3& forward, PathRng& rng) {

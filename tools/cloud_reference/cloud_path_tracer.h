@@ -20,6 +20,7 @@
 
 #include <glm/glm.hpp>
 
+#include "atmo_monte_carlo/sampling.h"
 #include "core/clouds/cloud_twin.h"
 #include "core/clouds/cloud_volume.h"
 
@@ -86,26 +87,12 @@ TransmittanceEstimate ratio_tracking_transmittance(const CloudVolume& cloud, con
 // The tracer's random numbers: xoshiro256** seeded through splitmix64 from
 // (seed, stream), 53-bit doubles; one stream per image row or sample block, so
 // results never depend on scheduling. Public for the tests.
-class PathRng {
+class PathRng : public monte_carlo::Xoshiro256 {
  public:
-  PathRng(uint64_t seed, uint64_t stream);
-  uint64_t next() {
-    const uint64_t r = rotl(s_[1] * 5, 7) * 9;
-    const uint64_t t = s_[1] << 17;
-    s_[2] ^= s_[0];
-    s_[3] ^= s_[1];
-    s_[1] ^= s_[2];
-    s_[0] ^= s_[3];
-    s_[2] ^= t;
-    s_[3] = rotl(s_[3], 45);
-    return r;
-  }
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  // [0, 1)
-  double exponential() { return -std::log(1.0 - uniform()); }                 // rate 1; 1 - u > 0
+  PathRng(uint64_t seed, uint64_t stream) : Xoshiro256(stream_state(seed, stream)) {}
 
  private:
-  static uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
-  uint64_t s_[4];
+  static uint64_t stream_state(uint64_t seed, uint64_t stream);
 };
 
 // One direction drawn exactly from the droplet phase function around

@@ -6,6 +6,7 @@
 #include <thread>
 #include <vector>
 
+#include "atmo_monte_carlo/sampling.h"
 #include "fog_reference.h"
 
 namespace atmo::fog_reference {
@@ -14,53 +15,10 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr uint64_t kChunk = 1024;  // paths per independently seeded chunk
 
-uint64_t splitmix64(uint64_t& state) {
-  uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-// xoshiro256** (Blackman & Vigna), seeded through splitmix64.
-class Rng {
- public:
-  explicit Rng(uint64_t seed) {
-    uint64_t sm = seed;
-    for (uint64_t& w : s_) w = splitmix64(sm);
-  }
-  uint64_t next() {
-    const uint64_t result = rotl(s_[1] * 5, 7) * 9;
-    const uint64_t t = s_[1] << 17;
-    s_[2] ^= s_[0];
-    s_[3] ^= s_[1];
-    s_[1] ^= s_[2];
-    s_[0] ^= s_[3];
-    s_[2] ^= t;
-    s_[3] = rotl(s_[3], 45);
-    return result;
-  }
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  // [0, 1)
-
- private:
-  static uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
-  uint64_t s_[4];
-};
-
-// Orthonormal basis about unit n (Duff et al. 2017).
-void basis(const glm::dvec3& n, glm::dvec3& b1, glm::dvec3& b2) {
-  const double sign = std::copysign(1.0, n.z);
-  const double a = -1.0 / (sign + n.z);
-  const double b = n.x * n.y * a;
-  b1 = glm::dvec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-  b2 = glm::dvec3(b, sign + n.y * n.y * a, -n.y);
-}
-
-// Cosine of the deflection sampled from Henyey-Greenstein.
-double sample_hg_cos(double g, double u) {
-  if (std::abs(g) < 1e-8) return 1.0 - 2.0 * u;
-  const double sq = (1.0 - g * g) / (1.0 - g + 2.0 * g * u);
-  return std::clamp((1.0 + g * g - sq * sq) / (2.0 * g), -1.0, 1.0);
-}
+using monte_carlo::basis;
+using monte_carlo::sample_hg_cos;
+using monte_carlo::splitmix64;
+using Rng = monte_carlo::Xoshiro256;  // seeded from a splitmix64 state
 
 // Part of the ray o + t dir, 0 <= t < limit, inside the slab: [t0, t1). False if empty.
 bool slab_interval(const Medium& m, const glm::dvec3& o, const glm::dvec3& dir, double limit, double& t0,
