@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "abi/cloud_inputs.h"
+#include "abi/fog_inputs.h"
 #include "abi/host_services.h"
 #include "abi/table_builder.h"
 #include "atmo/atmo.h"
@@ -21,6 +22,7 @@
 #include "core/sky_bodies.h"
 #include "core/sky_lighting.h"
 #include "gl/cloud_renderer.h"
+#include "gl/fog_renderer.h"
 #include "gl/night_renderer.h"
 #include "gl/renderer.h"
 
@@ -57,6 +59,12 @@ struct AtmoContext_T {
   // The clouds (set_clouds) and their GL objects (built by the first cloud pass with clouds).
   atmo::abi::ContextClouds clouds;
   atmo::gl::CloudRenderer cloud_renderer;
+
+  // Fog (set_fog) and the host's lights (set_lights); their GL objects are
+  // built by the first fog pass or get_fog_lighting with fog.
+  atmo::abi::ContextFog fog;
+  atmo::abi::ContextLights lights;
+  atmo::gl::FogRenderer fog_renderer;
 
   atmo::gl::Renderer renderer;
   // The night sky's point pass: its programs are built by the first night

@@ -161,6 +161,60 @@ void set_clouds(const sc::Scenario& scenario, atmo::Context& context) {
   if (r != ATMO_SUCCESS) std::printf("  clouds: %s\n", context.last_error().c_str());
 }
 
+// The scenario's fog through set_fog (none: no call, no cost).
+void set_fog(const sc::Scenario& scenario, atmo::Context& context) {
+  if (!scenario.fog) return;
+  AtmoFogState fog = atmo::make<AtmoFogState>(ATMO_TYPE_FOG_STATE);
+  fog.visibility_m = scenario.fog->visibility_m;
+  fog.top_height_m = scenario.location.height_m + scenario.fog->top_m;  // the file's top is above the ENU origin
+  context.set_fog(fog);
+}
+
+// The scenario's lights (the runway's approach, threshold and edge lights
+// when asked for, and its own points) through set_lights, ENU at the
+// scenario's origin; glows dimmer than 1/2000 of the camera's white are not drawn.
+void set_lights(const sc::Scenario& scenario, const hs::Terrain& terrain, double exposure, atmo::Context& context) {
+  if (!scenario.lights) return;
+  std::vector<AtmoLightPoint> points;
+  if (scenario.lights->runway_approach) {
+    // Runway lights are beamed at the approaching aircraft: along the approach, 3 deg up; full within 10 deg,
+    // none beyond 25 deg (their rated intensity is on that axis; docs/FOG.md).
+    const double h = glm::radians(terrain.options().runway_heading_deg);
+    const glm::dvec3 axis(-std::sin(h), -std::cos(h), std::tan(glm::radians(3.0)));
+    for (const hs::LightPoint& l : terrain.light_points()) {
+      AtmoLightPoint p{};
+      for (int k = 0; k < 3; ++k) {
+        p.position_m[k] = l.position_enu_m[k];
+        p.color[k] = l.color[k];
+        p.direction[k] = axis[k];
+      }
+      p.intensity_cd = l.intensity_cd;
+      p.cone_inner_rad = glm::radians(10.0);
+      p.cone_outer_rad = glm::radians(25.0);
+      points.push_back(p);
+    }
+  }
+  for (const sc::LightPoint& l : scenario.lights->points) {
+    AtmoLightPoint p{};
+    for (int k = 0; k < 3; ++k) {
+      p.position_m[k] = l.enu_m[k];
+      p.color[k] = l.color[k];
+    }
+    p.intensity_cd = l.intensity_cd;
+    points.push_back(p);
+  }
+  AtmoLightsState state = atmo::make<AtmoLightsState>(ATMO_TYPE_LIGHTS_STATE);
+  state.world_frame = ATMO_WORLD_ENU;
+  state.light_size = sizeof(AtmoLightPoint);
+  state.world_origin_geodetic[0] = scenario.location.latitude_deg;
+  state.world_origin_geodetic[1] = scenario.location.longitude_deg;
+  state.world_origin_geodetic[2] = scenario.location.height_m;
+  state.lights = points.data();
+  state.light_count = static_cast<uint32_t>(points.size());
+  state.glow_threshold_cd_m2 = 1.0 / (2000.0 * exposure);
+  context.set_lights(state);
+}
+
 int run_render(const Options& options) {
   sc::LoadResult loaded = sc::load_scenario_file(options.scenario_path);
   if (!loaded.scenario) {
@@ -200,6 +254,7 @@ int run_render(const Options& options) {
     context.set_frame(frame);
 
     set_clouds(scenario, context);
+    set_fog(scenario, context);
 
     hs::Terrain terrain(terrain_of(scenario));
     if (!terrain.gl_init(&error)) throw std::runtime_error("terrain: " + error);
@@ -246,6 +301,7 @@ int run_render(const Options& options) {
         view.set(hs::make_view_state(setup));
       }
       const hs::SceneLighting scene_lighting = hs::lighting_from_atmo(lighting);
+      set_lights(scenario, terrain, exposure, context);
       std::printf("camera %s: %dx%d, sun elevation %.2f°, azimuth %.2f°, EV100 %.1f, depth %s\n", cam.name.c_str(),
                   cam.width, cam.height, sun_elevation_deg, glm::degrees(lighting.sun_azimuth_rad), ev100,
                   hs::to_string(depth));
@@ -264,8 +320,9 @@ int run_render(const Options& options) {
           if (!depth_state.ok()) throw std::runtime_error("the GL context lacks glClipControl for reversed depth");
           glClearDepth(hs::clear_depth_value(depth));
           glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+          const AtmoFogLighting fog_lighting = view.fog_lighting();
           timer.time([&] {
-            terrain.draw(setup, scene_lighting);
+            terrain.draw(setup, scene_lighting, &fog_lighting);
             return 0;
           });
           timings[0].ms.push_back(timer.last_ms());

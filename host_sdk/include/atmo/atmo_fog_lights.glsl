@@ -160,14 +160,16 @@ ATMO_FOG_FN float atmo_fog_surface_g(ATMO_FOG_IN(ATMO_FOG_TABLE) table, vec2 siz
 
 // Diffusion (P1) light of a point light, per unit intensity, at `distance`
 // metres: x = fluence (per sr-weighted cd: cd/m^2 * sr), y = net flux (lux per
-// cd, away from the light). diffusion = (sigma_tr, mu, rate, on):
+// cd, away from the light). diffusion = (sigma_tr, mu, rate, cap):
 // sigma_tr = beta (1 - albedo g) the transport coefficient, mu the decay
 // (absorption and escape through the top), rate the handover: the term is
-// scaled by 1 - exp(-rate * thickness), ~0 where single scattering holds.
+// scaled by 1 - exp(-rate * min(thickness, cap)), ~0 where single scattering
+// holds; cap is the layer's vertical optical thickness (a photon in a thin
+// layer escapes before it scatters much), 0: multiple scattering off.
 // thickness: the fog's optical thickness between the light and the point.
 ATMO_FOG_FN vec2 atmo_fog_diffusion_light(vec4 diffusion, float distance, float thickness) {
   float r = max(distance, 0.5f);
-  float handover = (1.0f - exp(-diffusion.z * thickness)) * diffusion.w;
+  float handover = 1.0f - exp(-diffusion.z * min(thickness, diffusion.w));
   float e = exp(-diffusion.y * r);
   return vec2(3.0f * diffusion.x * e / r, (1.0f + diffusion.y * r) * e / (r * r)) * handover;
 }
@@ -198,7 +200,7 @@ ATMO_FOG_FN vec2 atmo_fog_surface_terms(ATMO_FOG_IN(ATMO_FOG_TABLE) table, vec2 
 uniform sampler2D atmo_fog_surface_table;
 uniform sampler2D atmo_fog_light_texture;  // RGBA32F, 4 texels per light (one row each)
 uniform vec4 atmo_fog_medium;              // extinction 1/m, albedo, top height above the eye m, unused
-uniform vec4 atmo_fog_diffusion;           // sigma_tr 1/m, mu 1/m, handover rate, on (0/1)
+uniform vec4 atmo_fog_diffusion;           // sigma_tr 1/m, mu 1/m, handover rate, thickness cap (0: off)
 uniform vec3 atmo_fog_up;                  // unit up at the eye, world axes
 uniform vec2 atmo_fog_surface_table_size;
 uniform int atmo_fog_light_count;

@@ -16,6 +16,8 @@ constexpr double kFogAlbedo = 0.999;
 // The multiple-scattering handover rate: the diffusion term is scaled by
 // 1 - exp(-rate * T). Fitted to the Monte Carlo reference (docs/FOG.md).
 constexpr double kHandoverRate = 0.5;
+// Heights and distances at or beyond this mean "none" (no fog top, no surface on the ray): ATMO_FOG_FAR.
+constexpr float kNoTop = 1.0e30f;
 
 // Extinction (1/m) of a fog of meteorological optical range `mor_m`: the
 // 5 % contrast threshold, ln(20) / MOR, as the aerial perspective uses.

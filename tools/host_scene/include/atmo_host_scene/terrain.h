@@ -102,8 +102,10 @@ class Terrain {
 
   // [gl-current] Draws terrain, runway and light points into the bound
   // framebuffer with view.depth_convention (set the host depth state with
-  // DepthSetup first). Restores the GL state it changes.
-  void draw(const ViewSetup& view, const SceneLighting& lighting) const;
+  // DepthSetup first). Restores the GL state it changes. With `fog` (from
+  // get_fog_lighting; light_count > 0) the surfaces are lit by the plugin's
+  // lights in its fog through atmo_fog_lights.glsl.
+  void draw(const ViewSetup& view, const SceneLighting& lighting, const AtmoFogLighting* fog = nullptr) const;
 
  private:
   struct Vertex {
@@ -135,6 +137,7 @@ class Terrain {
   // GL objects; [0] standard/reversed variant, [1] logarithmic-depth variant.
   unsigned surface_program_[2] = {0, 0};
   unsigned point_program_[2] = {0, 0};
+  unsigned fog_program_[2] = {0, 0};  // the surface program with atmo_fog_lights.glsl
   unsigned terrain_vao_ = 0, terrain_vbo_ = 0, terrain_ibo_ = 0;
   unsigned runway_vao_ = 0, runway_vbo_ = 0;
   unsigned light_vao_ = 0, light_vbo_ = 0;
