@@ -317,6 +317,7 @@ AtmoResult set_view(AtmoView view_handle, const AtmoViewState* state) {
     view->state = s;
     view->eye = eye;
     view->have_state = true;
+    ++view->state_serial;
     return ATMO_SUCCESS;
   });
 }
@@ -503,10 +504,20 @@ double glow_threshold(const AtmoContext_T* ctx, const AtmoView_T* view) {
   return 1.0 / (2000.0 * exposure);
 }
 
+// The view's lights in the fog, made once per set_view / set_fog / set_lights.
+const atmo::abi::FogFrame& view_fog_frame(AtmoContext_T* ctx, AtmoView_T* view) {
+  if (!view->fog_frame || view->fog_frame_context_serial != ctx->fog_serial ||
+      view->fog_frame_view_serial != view->state_serial) {
+    view->fog_frame = atmo::abi::make_fog_frame(ctx->fog, ctx->lights, view->eye, glow_threshold(ctx, view));
+    view->fog_frame_context_serial = ctx->fog_serial;
+    view->fog_frame_view_serial = view->state_serial;
+  }
+  return *view->fog_frame;
+}
+
 AtmoResult fog_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core::Scene& scene,
                     const atmo::gl::PassInputs& inputs) {
-  const atmo::abi::FogFrame frame =
-      atmo::abi::make_fog_frame(ctx->fog, ctx->lights, view->eye, glow_threshold(ctx, view));
+  const atmo::abi::FogFrame& frame = view_fog_frame(ctx, view);
   atmo::gl::FogDrawInputs in;
   in.frame = &frame;
   in.extinction_per_m = static_cast<float>(ctx->fog.optics.extinction_per_m);
@@ -539,6 +550,7 @@ AtmoResult set_fog(AtmoContext context, const AtmoFogState* state) {
     if (!state) {
       ctx->fog.optics = atmo::fog::FogOptics{};
       ctx->fog.optics.extinction_per_m = 0.0;
+      ++ctx->fog_serial;
       return ATMO_SUCCESS;
     }
     AtmoFogState s;
@@ -546,6 +558,7 @@ AtmoResult set_fog(AtmoContext context, const AtmoFogState* state) {
     if (e.code) return fail(ctx, "set_fog", e);
     atmo::abi::Verdict v = atmo::abi::set_fog_state(s, &ctx->fog);
     if (!v.ok()) return fail(ctx, v.code, "set_fog", v.message);
+    ++ctx->fog_serial;
     return ATMO_SUCCESS;
   });
 }
@@ -556,6 +569,7 @@ AtmoResult set_lights(AtmoContext context, const AtmoLightsState* state) {
   return guarded(ctx, "set_lights", [&]() -> AtmoResult {
     if (!state) {
       ctx->lights = atmo::abi::ContextLights{};
+      ++ctx->fog_serial;
       return ATMO_SUCCESS;
     }
     AtmoLightsState s;
@@ -563,6 +577,7 @@ AtmoResult set_lights(AtmoContext context, const AtmoLightsState* state) {
     if (e.code) return fail(ctx, "set_lights", e);
     atmo::abi::Verdict v = atmo::abi::set_lights_state(s, &ctx->lights);
     if (!v.ok()) return fail(ctx, v.code, "set_lights", v.message);
+    ++ctx->fog_serial;
     return ATMO_SUCCESS;
   });
 }
@@ -585,7 +600,7 @@ AtmoResult get_fog_lighting(AtmoView view_handle, AtmoFogLighting* out) {
     std::memset(reinterpret_cast<char*>(&f) + sizeof(f.header), 0, sizeof(f) - sizeof(f.header));
     if (ctx->fog.enabled() && !ctx->lights.lights.empty()) {
       const double threshold = glow_threshold(ctx, view);
-      const atmo::abi::FogFrame frame = atmo::abi::make_fog_frame(ctx->fog, ctx->lights, view->eye, threshold);
+      const atmo::abi::FogFrame& frame = view_fog_frame(ctx, view);
       // The view's world axes from the eye's ENU.
       glm::dmat3 world_from_ecef(1.0);
       if (view->state.world_frame == ATMO_WORLD_ENU) {

@@ -19,14 +19,14 @@ std::string num(double v) {
   return b;
 }
 
-// Mean over the sphere of smoothstep(cos_outer, cos_inner, cos): d(omega) = 2 pi d(cos).
+// Mean over the sphere of a cone light's profile (atmo_fog_cone): d(omega) = 2 pi d(cos).
 double mean_cone_profile(double cos_inner, double cos_outer) {
   const int n = 512;
   double sum = 0.0;
   for (int i = 0; i < n; ++i) {
-    const double c = -1.0 + 2.0 * (i + 0.5) / n;
-    const double t = std::clamp((c - cos_outer) / (cos_inner - cos_outer), 0.0, 1.0);
-    sum += t * t * (3.0 - 2.0 * t);
+    const float c = static_cast<float>(-1.0 + 2.0 * (i + 0.5) / n);
+    sum += fog::twin::atmo_fog_cone(glm::vec3(0.0f, 0.0f, 1.0f), static_cast<float>(cos_inner),
+                                    static_cast<float>(cos_outer), glm::vec3(std::sqrt(1.0f - c * c), 0.0f, c));
   }
   return sum / n;
 }
@@ -167,10 +167,8 @@ FogFrame make_fog_frame(const ContextFog& fog, const ContextLights& lights, cons
     fl.cos_inner = static_cast<float>(l.cos_inner);
     fl.cos_outer = static_cast<float>(l.cos_outer);
     // The part of the eye-light segment inside the layer (heights in the tangent plane at the eye).
-    const double lo = std::min(0.0, rel.z), hi = std::max(0.0, rel.z);
-    const double inside = !std::isfinite(top) ? 1.0 : hi - lo < 1e-3 ? (lo < top ? 1.0 : 0.0)
-                                                                        : std::clamp((top - lo) / (hi - lo), 0.0, 1.0);
-    const double beta = o.extinction_per_m * inside;
+    const double beta =
+        o.extinction_per_m * fog::twin::atmo_fog_inside_fraction(0.0f, fl.position_enu_m.z, f.top_above_eye_m);
     fl.beta_per_m = static_cast<float>(beta);
     const double d = glm::length(rel);
     const double peak = std::max({l.intensity_cd.x, l.intensity_cd.y, l.intensity_cd.z});
@@ -178,11 +176,9 @@ FogFrame make_fog_frame(const ContextFog& fog, const ContextLights& lights, cons
                                                                               threshold_cd_m2))
                                    : 0.0f;
     if (o.multiple_scattering && d > 0.0) {
-      // atmo_fog_diffusion_light in double, with the cone's mean intensity (its power).
-      const double r = std::max(d, 0.5), thickness = beta * d;
-      const double handover = 1.0 - std::exp(-fog::kHandoverRate * std::min(thickness, cap));
-      const double e = std::exp(-mu * r);
-      const double phi = 3.0 * tr * e / r * handover, flux_magnitude = (1.0 + mu * r) * e / (r * r) * handover;
+      const glm::vec2 p1 = fog::twin::atmo_fog_diffusion_light(f.diffusion, static_cast<float>(d),
+                                                                static_cast<float>(beta * d));
+      const double phi = p1.x, flux_magnitude = p1.y;
       const glm::dvec3 towards = rel / d;
       const glm::dvec3 power = l.intensity_cd * l.mean_profile;
       fluence += phi * power;

@@ -171,29 +171,13 @@ void set_fog(const sc::Scenario& scenario, atmo::Context& context) {
 }
 
 // The scenario's lights (the runway's approach, threshold and edge lights
-// when asked for, and its own points) through set_lights, ENU at the
-// scenario's origin; glows dimmer than 1/2000 of the camera's white are not drawn.
+// when asked for, beamed along the approach, and its own points) through
+// set_lights, ENU at the scenario's origin; glows dimmer than 1/2000 of the
+// camera's white are not drawn.
 void set_lights(const sc::Scenario& scenario, const hs::Terrain& terrain, double exposure, atmo::Context& context) {
   if (!scenario.lights) return;
   std::vector<AtmoLightPoint> points;
-  if (scenario.lights->runway_approach) {
-    // Runway lights are beamed at the approaching aircraft: along the approach, 3 deg up; full within 10 deg,
-    // none beyond 25 deg (their rated intensity is on that axis; docs/FOG.md).
-    const double h = glm::radians(terrain.options().runway_heading_deg);
-    const glm::dvec3 axis(-std::sin(h), -std::cos(h), std::tan(glm::radians(3.0)));
-    for (const hs::LightPoint& l : terrain.light_points()) {
-      AtmoLightPoint p{};
-      for (int k = 0; k < 3; ++k) {
-        p.position_m[k] = l.position_enu_m[k];
-        p.color[k] = l.color[k];
-        p.direction[k] = axis[k];
-      }
-      p.intensity_cd = l.intensity_cd;
-      p.cone_inner_rad = glm::radians(10.0);
-      p.cone_outer_rad = glm::radians(25.0);
-      points.push_back(p);
-    }
-  }
+  if (scenario.lights->runway_approach) points = terrain.atmo_light_points();
   for (const sc::LightPoint& l : scenario.lights->points) {
     AtmoLightPoint p{};
     for (int k = 0; k < 3; ++k) {

@@ -109,6 +109,10 @@ class Context {
     if (!api_->set_fog) throw std::runtime_error("set_fog: the plugin has no fog (an older plugin)");
     check(api_->set_fog(context_, &s), "set_fog");
   }
+  // No fog (an older plugin without fog has none to clear).
+  void clear_fog() {
+    if (api_->set_fog) check(api_->set_fog(context_, nullptr), "set_fog");
+  }
   void set_lights(const AtmoLightsState& s) {
     if (!api_->set_lights) throw std::runtime_error("set_lights: the plugin has no lights (an older plugin)");
     check(api_->set_lights(context_, &s), "set_lights");

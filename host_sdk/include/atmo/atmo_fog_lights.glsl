@@ -141,6 +141,21 @@ ATMO_FOG_FN float atmo_fog_airlight(ATMO_FOG_IN(ATMO_FOG_TABLE) table, float siz
   return beta / (2.0f * ATMO_FOG_PI * h) * max(near_term - far_term, 0.0f);
 }
 
+// One light's glow along the unit view ray `dir` from the eye: the airlight
+// (per unit intensity and albedo, as atmo_fog_airlight) times a cone light's
+// profile towards the ray's point of closest approach to the light, where most
+// of the glow comes from (exact for an omnidirectional light; for a cone an
+// approximation, measured in docs/FOG.md). to_light: the light minus the eye, m.
+ATMO_FOG_FN float atmo_fog_glow(ATMO_FOG_IN(ATMO_FOG_TABLE) table, float size, float beta, vec3 to_light, vec3 dir,
+                                vec3 axis, float cos_inner, float cos_outer, float d_vp, float min_sin) {
+  float distance = length(to_light);
+  float cos_gamma = dot(dir, to_light) / max(distance, 1.0e-3f);
+  float closest = clamp(distance * cos_gamma, 0.0f, min(d_vp, 1.0e7f));
+  float cone = atmo_fog_cone(axis, cos_inner, cos_outer, normalize(dir * closest - to_light + vec3(0.0f, 0.0f, 1.0e-6f)));
+  if (cone <= 0.0f) return 0.0f;
+  return cone * atmo_fog_airlight(table, size, beta, distance, cos_gamma, d_vp, min_sin);
+}
+
 // The surface table's G_n(T, theta) (the paper's eq. 16 with the phase
 // function folded in; n = 1 is the Lambertian G_0): rows are layers of
 // exponent 2^k, k = 0..8, each `size.y` rows of theta in [0, pi] by `size.x`

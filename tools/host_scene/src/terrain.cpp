@@ -474,6 +474,26 @@ void Terrain::build_lights() {
   }
 }
 
+std::vector<AtmoLightPoint> Terrain::atmo_light_points() const {
+  const double h = glm::radians(options_.runway_heading_deg);
+  const glm::dvec3 axis(-std::sin(h), -std::cos(h), std::tan(glm::radians(3.0)));
+  std::vector<AtmoLightPoint> points;
+  points.reserve(lights_.size());
+  for (const LightPoint& l : lights_) {
+    AtmoLightPoint p{};
+    for (int k = 0; k < 3; ++k) {
+      p.position_m[k] = l.position_enu_m[k];
+      p.color[k] = l.color[k];
+      p.direction[k] = axis[k];
+    }
+    p.intensity_cd = l.intensity_cd;
+    p.cone_inner_rad = glm::radians(10.0);
+    p.cone_outer_rad = glm::radians(25.0);
+    points.push_back(p);
+  }
+  return points;
+}
+
 bool Terrain::gl_init(std::string* error) {
   if (gl_ready_) return true;
   if (options_.kind == TerrainOptions::Kind::None) {

@@ -93,6 +93,11 @@ class Terrain {
   int grid() const { return grid_; }
 
   const std::vector<LightPoint>& light_points() const { return lights_; }
+  // The light points for the plugin's set_lights (ENU at the terrain's
+  // origin). Runway lights are beamed at the approaching aircraft: along the
+  // approach, 3 degrees up, full within 10 degrees and none beyond 25 (their
+  // rated intensity is on that axis; docs/FOG.md).
+  std::vector<AtmoLightPoint> atmo_light_points() const;
 
   // [gl-current] Creates programs and buffers; false with *error on failure.
   bool gl_init(std::string* error);
