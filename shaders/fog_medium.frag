@@ -23,8 +23,10 @@ float fog_length(float d, float dir_z, float top) {
 
 void main() {
   vec2 ndc = ndc_xy();
-  vec4 p = view_point_from_depth(u_view_from_clip, ndc, host_depth(), u_depth_convention, u_log_far_m,
-                                 u_log_coefficient);
+  // Without a host depth texture every pixel is open sky (w < 0).
+  vec4 p = u_has_depth != 0 ? view_point_from_depth(u_view_from_clip, ndc, host_depth(), u_depth_convention,
+                                                     u_log_far_m, u_log_coefficient)
+                            : vec4(0.0, 0.0, 0.0, -1.0);
   vec3 ray = p.w < 0.0 ? view_ray_from_ndc(u_view_from_clip, ndc, u_depth_convention) : p.xyz;
   vec3 dir = normalize(u_enu_from_view * ray);
   float d = p.w < 0.0 ? ATMO_FOG_FAR : length(p.xyz);

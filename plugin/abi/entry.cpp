@@ -531,7 +531,8 @@ AtmoResult fog_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core::Scen
   in.ambient_cd_m2 = glm::vec3(ctx->fog.optics.albedo * 0.5 *
                                (sky.average_radiance + ctx->atmosphere.ground_albedo * horizontal / M_PI));
   const double tan_half = 1.0 / std::max(std::abs(view->state.clip_from_view[5]), 1e-12);
-  in.min_sin = static_cast<float>(tan_half / static_cast<double>(view->state.viewport[3]));
+  // 0.2836 of a pixel (2 tan_half / rows): the glow's 1/gamma core averaged over the pixel on the light.
+  in.min_sin = static_cast<float>(0.5672 * tan_half / static_cast<double>(view->state.viewport[3]));
   std::string error;
   if (!ctx->fog_renderer.upload_tables(ctx->fog.airlight, ctx->fog.surface, ctx->fog.version, &error) ||
       !ctx->fog_renderer.draw(ctx->renderer, inputs, in, &error))

@@ -112,6 +112,10 @@ Verdict set_lights_state(const AtmoLightsState& s, ContextLights* out) {
     const double* all = &p.position_m[0];
     for (size_t k = 0; k < sizeof(p) / sizeof(double); ++k)
       if (!std::isfinite(all[k])) return bad(ATMO_ERROR_NON_FINITE_VALUE, where + " has a NaN or Inf field");
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(p.position_m[k]) > 1e9)  // a light beyond the Moon's orbit: a units mistake
+        return bad(ATMO_ERROR_OUT_OF_RANGE, where + "position_m[" + std::to_string(k) + "] = " + num(p.position_m[k]) +
+                                                " is outside [-1e9, 1e9] m");
     if (p.intensity_cd < 0.0 || p.intensity_cd > 1e8)
       return bad(ATMO_ERROR_OUT_OF_RANGE, where + "intensity_cd = " + num(p.intensity_cd) + " is outside [0, 1e8]");
     for (int c = 0; c < 3; ++c)
@@ -177,7 +181,7 @@ FogFrame make_fog_frame(const ContextFog& fog, const ContextLights& lights, cons
                                    : 0.0f;
     if (o.multiple_scattering && d > 0.0) {
       const glm::vec2 p1 = fog::twin::atmo_fog_diffusion_light(f.diffusion, static_cast<float>(d),
-                                                                static_cast<float>(beta * d));
+                                                                static_cast<float>(beta * d), false);
       const double phi = p1.x, flux_magnitude = p1.y;
       const glm::dvec3 towards = rel / d;
       const glm::dvec3 power = l.intensity_cd * l.mean_profile;

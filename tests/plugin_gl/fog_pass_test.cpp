@@ -180,6 +180,9 @@ TEST(FogPass, InvalidStatesAreRejectedWithTheFieldNamed) {
   p.position_m[1] = std::nan("");
   add("NaN position", p, ATMO_ERROR_NON_FINITE_VALUE, "lights[1]");
   p = good;
+  p.position_m[0] = 3e9;
+  add("position beyond 1e9 m", p, ATMO_ERROR_OUT_OF_RANGE, "lights[1].position_m[0] = 3e+09");
+  p = good;
   p.intensity_cd = -1.0;
   add("negative intensity", p, ATMO_ERROR_OUT_OF_RANGE, "lights[1].intensity_cd = -1");
   p = good;
@@ -288,7 +291,7 @@ TEST(FogPass, GlowMatchesItsTwin) {
 
   const atmo::fog::FogTable table = atmo::fog::build_airlight_table(64, g);
   const double beta = atmo::fog::extinction_from_visibility(visibility);
-  const float min_sin = static_cast<float>(std::tan(glm::radians(30.0)) / kHeight);
+  const float min_sin = static_cast<float>(0.5672 * std::tan(glm::radians(30.0)) / kHeight);
   int compared = 0, bright = 0, missing = 0;
   double worst = 0.0, sum_glow = 0.0;
   for (int y = 0; y < kHeight; ++y)
@@ -313,11 +316,13 @@ TEST(FogPass, GlowMatchesItsTwin) {
         if (got <= 0.0) ++missing;  // culled where it is above the threshold
       }
       if (expected > 10.0 * threshold) {
-        worst = std::max(worst, std::abs(got - expected) / expected);
+        // Each light's glow is culled where it is below the threshold: up to that much is missing per light.
+        worst = std::max(worst, std::max(std::abs(got - expected) - threshold * lights.size(), 0.0) / expected);
         ++compared;
       }
     }
-  std::printf("glow vs twin: %d pixels above 10x threshold, worst relative difference %.2e; %d above 2x threshold, "
+  std::printf("glow vs twin: %d pixels above 10x threshold, worst relative difference (beyond the threshold per "
+              "light that culling may drop) %.2e; %d above 2x threshold, "
               "%d of them culled; summed glow %.3g cd/m^2\n",
               compared, worst, bright, missing, sum_glow);
   EXPECT_GT(compared, 100);

@@ -516,7 +516,7 @@ typedef struct AtmoFogState {
 
 /* One light of the host's (an approach light, a street lamp, a headlight). */
 typedef struct AtmoLightPoint {
-  double position_m[3];         /* in the lights' world frame (AtmoLightsState.world_frame), metres */
+  double position_m[3];         /* in the lights' world frame (AtmoLightsState.world_frame), metres, each [-1e9, 1e9] */
   double intensity_cd;          /* luminous intensity on the axis, cd, [0, 1e8] */
   double color[3];              /* linear Rec.709 RGB multiplier of the intensity, each [0, 16] */
   /* Cone (headlights, beamed runway lights): the intensity is
