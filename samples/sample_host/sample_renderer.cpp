@@ -249,15 +249,7 @@ FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t
       } else {
         context_->clear_fog();
       }
-      auto lights = atmo::make<AtmoLightsState>(ATMO_TYPE_LIGHTS_STATE);
-      lights.world_frame = ATMO_WORLD_ENU;
-      lights.light_size = sizeof(AtmoLightPoint);
-      lights.world_origin_geodetic[0] = settings.origin.latitude_deg;
-      lights.world_origin_geodetic[1] = settings.origin.longitude_deg;
-      lights.world_origin_geodetic[2] = settings.origin.height_m;
-      lights.lights = points.data();
-      lights.light_count = static_cast<uint32_t>(points.size());
-      context_->set_lights(lights);  // glow threshold 0: 1/2000 of the view's white
+      context_->set_lights(hs::lights_state_enu(settings.origin, points));  // threshold: 1/2000 of the view's white
       last_fog_visibility_m_ = settings.fog_visibility_m;
       last_fog_top_m_ = settings.fog_top_m;
     }

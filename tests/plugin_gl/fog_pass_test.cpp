@@ -18,6 +18,7 @@
 #include "atmo_support/image.h"
 #include "atmo_support/image_metrics.h"
 #include "core/fog/fog_twin.h"
+#include "host_shader.h"
 #include "plugin_gl_fixture.h"
 
 namespace {
@@ -328,28 +329,6 @@ TEST(FogPass, GlowMatchesItsTwin) {
   EXPECT_GT(compared, 100);
   EXPECT_LT(worst, 0.01);
   EXPECT_EQ(missing, 0);
-}
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-GLuint compile(GLenum stage, const std::string& source) {
-  GLuint s = glCreateShader(stage);
-  const char* text = source.c_str();
-  glShaderSource(s, 1, &text, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[4096];
-    glGetShaderInfoLog(s, sizeof log, nullptr, log);
-    ADD_FAILURE() << "host shader: " << log;
-  }
-  return s;
 }
 
 // A host surface shader that includes atmo_fog_lights.glsl: each pixel is a

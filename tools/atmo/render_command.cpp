@@ -187,16 +187,9 @@ void set_lights(const sc::Scenario& scenario, const hs::Terrain& terrain, double
     p.intensity_cd = l.intensity_cd;
     points.push_back(p);
   }
-  AtmoLightsState state = atmo::make<AtmoLightsState>(ATMO_TYPE_LIGHTS_STATE);
-  state.world_frame = ATMO_WORLD_ENU;
-  state.light_size = sizeof(AtmoLightPoint);
-  state.world_origin_geodetic[0] = scenario.location.latitude_deg;
-  state.world_origin_geodetic[1] = scenario.location.longitude_deg;
-  state.world_origin_geodetic[2] = scenario.location.height_m;
-  state.lights = points.data();
-  state.light_count = static_cast<uint32_t>(points.size());
-  state.glow_threshold_cd_m2 = 1.0 / (2000.0 * exposure);
-  context.set_lights(state);
+  const hs::Geodetic origin{scenario.location.latitude_deg, scenario.location.longitude_deg,
+                            scenario.location.height_m};
+  context.set_lights(hs::lights_state_enu(origin, points, 1.0 / (2000.0 * exposure)));
 }
 
 int run_render(const Options& options) {

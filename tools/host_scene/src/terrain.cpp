@@ -474,6 +474,22 @@ void Terrain::build_lights() {
   }
 }
 
+AtmoLightsState lights_state_enu(const Geodetic& origin, const std::vector<AtmoLightPoint>& points,
+                                 double glow_threshold_cd_m2) {
+  AtmoLightsState s{};
+  s.header.type = ATMO_TYPE_LIGHTS_STATE;
+  s.header.struct_size = sizeof(s);
+  s.world_frame = ATMO_WORLD_ENU;
+  s.light_size = sizeof(AtmoLightPoint);
+  s.world_origin_geodetic[0] = origin.latitude_deg;
+  s.world_origin_geodetic[1] = origin.longitude_deg;
+  s.world_origin_geodetic[2] = origin.height_m;
+  s.lights = points.empty() ? nullptr : points.data();
+  s.light_count = static_cast<uint32_t>(points.size());
+  s.glow_threshold_cd_m2 = glow_threshold_cd_m2;
+  return s;
+}
+
 std::vector<AtmoLightPoint> Terrain::atmo_light_points() const {
   const double h = glm::radians(options_.runway_heading_deg);
   const glm::dvec3 axis(-std::sin(h), -std::cos(h), std::tan(glm::radians(3.0)));

@@ -46,6 +46,11 @@ struct LightPoint {
   float intensity_cd = 0;  // towards the viewer (omnidirectional here)
 };
 
+// set_lights' state for `points` in the ENU frame at `origin` (points must
+// outlive the call it is passed to); threshold 0: the plugin's default.
+AtmoLightsState lights_state_enu(const Geodetic& origin, const std::vector<AtmoLightPoint>& points,
+                                 double glow_threshold_cd_m2 = 0.0);
+
 struct TerrainOptions {
   enum class Kind {
     Hills,  // fBm value-noise heightfield, flat around the runway, low under its approaches
