@@ -76,9 +76,7 @@
 // texel fetch, the distance and `continue`, a trivial body): the cost of a
 // skipped light when the skipped body is not run. range_mean_m / range_max_m:
 // the lights' surface ranges (the light texture's fourth texel value).
-//
-// The plugin prints its own "DEBUG fog ..." lines to stderr in this tree
-// (plugin/abi/entry.cpp); docs/measurements/fog_bench_llvmpipe.txt leaves them out.
+
 #include <benchmark/benchmark.h>
 #include <glad/gl.h>
 

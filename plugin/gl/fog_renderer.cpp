@@ -124,7 +124,8 @@ bool FogRenderer::draw(const Renderer&, const PassInputs& in, const FogDrawInput
   stats_.lights = static_cast<int>(frame.lights.size());
   const double half_w = 0.5 * in.viewport[2], half_h = 0.5 * in.viewport[3];
   for (const abi::FrameLight& l : frame.lights) {
-    if (l.glow_radius_rad <= 0.0f) continue;
+    // Below the threshold beyond min_sin: the shader floors sin(gamma) there, so no pixel can show it.
+    if (l.glow_radius_rad <= fog.min_sin) continue;
     const double d = glm::length(glm::dvec3(l.position_enu_m));
     if (d <= 0.0) continue;
     const glm::vec4 r = glow_rectangle(clip_from_enu, glm::dvec3(l.position_enu_m) / d, l.glow_radius_rad);

@@ -23,7 +23,7 @@ struct FogDrawInputs {
   float extinction_per_m = 0.0f;
   float albedo = 1.0f;
   glm::vec3 ambient_cd_m2{0.0f};  // the fog's isotropic light from the sky, Sun and Moon
-  float min_sin = 0.0f;           // half a pixel's angular size
+  float min_sin = 0.0f;           // floor of sin(gamma): 0.2836 of a pixel's angle (entry.cpp)
   glm::mat4 clip_from_enu{1.0f};  // host projection * (view from the eye's ENU): the glows' rectangles
 };
 
