@@ -201,6 +201,7 @@ AtmoResult gl_shutdown(AtmoContext context) {
     if (!ctx->gl_alive) return ATMO_SUCCESS;
     ctx->night_renderer.destroy();
     ctx->cloud_renderer.destroy();
+    ctx->fog_renderer.destroy();
     ctx->renderer.destroy();
     ctx->gl_alive = false;
     ctx->uploaded_lut_version = 0;
@@ -214,6 +215,7 @@ AtmoResult gl_context_lost(AtmoContext context) {
   ctx->renderer.forget();
   ctx->night_renderer.forget();
   ctx->cloud_renderer.forget();
+  ctx->fog_renderer.forget();
   ctx->gl_alive = false;
   ctx->uploaded_lut_version = 0;
   return ATMO_SUCCESS;
@@ -315,6 +317,7 @@ AtmoResult set_view(AtmoView view_handle, const AtmoViewState* state) {
     view->state = s;
     view->eye = eye;
     view->have_state = true;
+    ++view->state_serial;
     return ATMO_SUCCESS;
   });
 }
@@ -341,6 +344,8 @@ AtmoResult night_sky_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core
 
 AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core::Scene& scene,
                        const atmo::gl::PassInputs& inputs);
+AtmoResult fog_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core::Scene& scene,
+                    const atmo::gl::PassInputs& inputs);
 
 // The clouds' shadow on the sunlit air for the sky and aerial-perspective
 // passes (functions.glsl CloudShadowing): the map of get_cloud_shadows, made
@@ -394,7 +399,8 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
         if (ctx->clouds.empty()) return ATMO_STATUS_NOTHING_TO_DRAW;  // no clouds: no cost
         break;
       case ATMO_PASS_LIGHT_GLOWS:
-        return ATMO_STATUS_NOT_YET_SUPPORTED;  // no GL work at all
+        if (!ctx->fog.enabled()) return ATMO_STATUS_NOTHING_TO_DRAW;  // no fog: no cost
+        break;
       case ATMO_PASS_AERIAL_PERSPECTIVE:
         if (view->state.depth_texture == 0) return ATMO_STATUS_NOTHING_TO_DRAW;
         break;
@@ -429,6 +435,7 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
         !add_cloud_shadow(ctx, view, scene, &inputs, &error))
       return fail(ctx, ATMO_ERROR_GL, "render_pass", error);
     if (pass.pass == ATMO_PASS_NIGHT_SKY) return night_sky_pass(ctx, view, scene, inputs);
+    if (pass.pass == ATMO_PASS_LIGHT_GLOWS) return fog_pass(ctx, view, scene, inputs);
     if (pass.pass == ATMO_PASS_CLOUDS) return clouds_pass(ctx, view, scene, inputs);
     bool ok = pass.pass == ATMO_PASS_SKY ? ctx->renderer.draw_sky(inputs, &error)
                                          : ctx->renderer.draw_aerial_perspective(inputs, &error);
@@ -488,6 +495,143 @@ AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core::S
                                         std::to_string(st.marched) + " marched; impostor atlas " +
                                         std::to_string(ctx->cloud_renderer.impostor_bytes() >> 20) + " MiB");
   return drawn ? ATMO_SUCCESS : ATMO_STATUS_NOTHING_TO_DRAW;
+}
+
+// The glow threshold of a frame: the host's, or 1/2000 of the view's white.
+double glow_threshold(const AtmoContext_T* ctx, const AtmoView_T* view) {
+  if (ctx->lights.glow_threshold_cd_m2 > 0.0) return ctx->lights.glow_threshold_cd_m2;
+  const double exposure = view->state.exposure_scale > 0.0 ? view->state.exposure_scale : atmo::abi::kDefaultExposureScale;
+  return 1.0 / (2000.0 * exposure);
+}
+
+// The view's lights in the fog, made once per set_view / set_fog / set_lights.
+const atmo::abi::FogFrame& view_fog_frame(AtmoContext_T* ctx, AtmoView_T* view) {
+  if (!view->fog_frame || view->fog_frame_context_serial != ctx->fog_serial ||
+      view->fog_frame_view_serial != view->state_serial) {
+    view->fog_frame = atmo::abi::make_fog_frame(ctx->fog, ctx->lights, view->eye, glow_threshold(ctx, view));
+    view->fog_frame_context_serial = ctx->fog_serial;
+    view->fog_frame_view_serial = view->state_serial;
+  }
+  return *view->fog_frame;
+}
+
+AtmoResult fog_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core::Scene& scene,
+                    const atmo::gl::PassInputs& inputs) {
+  const atmo::abi::FogFrame& frame = view_fog_frame(ctx, view);
+  atmo::gl::FogDrawInputs in;
+  in.frame = &frame;
+  in.extinction_per_m = static_cast<float>(ctx->fog.optics.extinction_per_m);
+  in.albedo = static_cast<float>(ctx->fog.optics.albedo);
+  // The fog's isotropic light from the sky, Sun and Moon: albedo times the mean radiance around it, the
+  // sky above and the ground's reflection below (docs/FOG.md: a crude term, right in thin fog and at night).
+  const atmo::core::SkyLighting& sky = atmo::abi::view_sky_lighting(ctx, view, scene);
+  const glm::dvec3 sun = glm::dvec3(scene.atmosphere.sun_illuminance_lux) * std::max(scene.sun_direction_enu.z, 0.0);
+  const glm::dvec3 moon = scene.bodies.moon_illuminance_rgb_lux * std::max(scene.bodies.moon_enu.z, 0.0);
+  const glm::dvec3 horizontal = sky.horizontal_illuminance_lux + sun + moon;
+  in.ambient_cd_m2 = glm::vec3(ctx->fog.optics.albedo * 0.5 *
+                               (sky.average_radiance + ctx->atmosphere.ground_albedo * horizontal / M_PI));
+  const double tan_half = 1.0 / std::max(std::abs(view->state.clip_from_view[5]), 1e-12);
+  // 0.2836 of a pixel (2 tan_half / rows): the glow's 1/gamma core averaged over the pixel on the light.
+  in.min_sin = static_cast<float>(0.5672 * tan_half / static_cast<double>(view->state.viewport[3]));
+  std::string error;
+  if (!ctx->fog_renderer.upload_tables(ctx->fog.airlight, ctx->fog.surface, ctx->fog.version, &error) ||
+      !ctx->fog_renderer.draw(ctx->renderer, inputs, in, &error))
+    return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_LIGHT_GLOWS)", error);
+  const atmo::gl::FogDrawStats& st = ctx->fog_renderer.last_stats();
+  ctx->services.log(ATMO_LOG_DEBUG, "fog: " + std::to_string(st.lights) + " lights, " +
+                                        std::to_string(st.glows_drawn) + " glows drawn over " +
+                                        std::to_string(static_cast<long long>(st.covered_pixels)) + " pixels");
+  return ATMO_SUCCESS;
+}
+
+AtmoResult set_fog(AtmoContext context, const AtmoFogState* state) {
+  AtmoContext_T* ctx = live_context(context);
+  if (!ctx) return fail(nullptr, ATMO_ERROR_INVALID_HANDLE, "set_fog", "not a live context");
+  return guarded(ctx, "set_fog", [&]() -> AtmoResult {
+    if (!state) {
+      ctx->fog.optics = atmo::fog::FogOptics{};
+      ctx->fog.optics.extinction_per_m = 0.0;
+      ++ctx->fog_serial;
+      return ATMO_SUCCESS;
+    }
+    AtmoFogState s;
+    ReadError e = read_struct(state, ATMO_TYPE_FOG_STATE, "AtmoFogState", &s);
+    if (e.code) return fail(ctx, "set_fog", e);
+    atmo::abi::Verdict v = atmo::abi::set_fog_state(s, &ctx->fog);
+    if (!v.ok()) return fail(ctx, v.code, "set_fog", v.message);
+    ++ctx->fog_serial;
+    return ATMO_SUCCESS;
+  });
+}
+
+AtmoResult set_lights(AtmoContext context, const AtmoLightsState* state) {
+  AtmoContext_T* ctx = live_context(context);
+  if (!ctx) return fail(nullptr, ATMO_ERROR_INVALID_HANDLE, "set_lights", "not a live context");
+  return guarded(ctx, "set_lights", [&]() -> AtmoResult {
+    if (!state) {
+      ctx->lights = atmo::abi::ContextLights{};
+      ++ctx->fog_serial;
+      return ATMO_SUCCESS;
+    }
+    AtmoLightsState s;
+    ReadError e = read_struct(state, ATMO_TYPE_LIGHTS_STATE, "AtmoLightsState", &s);
+    if (e.code) return fail(ctx, "set_lights", e);
+    atmo::abi::Verdict v = atmo::abi::set_lights_state(s, &ctx->lights);
+    if (!v.ok()) return fail(ctx, v.code, "set_lights", v.message);
+    ++ctx->fog_serial;
+    return ATMO_SUCCESS;
+  });
+}
+
+AtmoResult get_fog_lighting(AtmoView view_handle, AtmoFogLighting* out) {
+  AtmoView_T* view = live_view(view_handle, "get_fog_lighting");
+  if (!view) return ATMO_ERROR_INVALID_HANDLE;
+  AtmoContext_T* ctx = view->context;
+  return guarded(ctx, "get_fog_lighting", [&]() -> AtmoResult {
+    AtmoFogLighting f;
+    ReadError e = read_struct(out, ATMO_TYPE_FOG_LIGHTING, "AtmoFogLighting", &f);
+    if (e.code) return fail(ctx, "get_fog_lighting", e);
+    if (!ctx->gl_alive)
+      return fail(ctx, ATMO_ERROR_CALL_OUT_OF_ORDER, "get_fog_lighting", "gl_init has not been called on this context");
+    if (!ctx->have_frame)
+      return fail(ctx, ATMO_ERROR_CALL_OUT_OF_ORDER, "get_fog_lighting", "set_frame has not been called");
+    if (!view->have_state)
+      return fail(ctx, ATMO_ERROR_CALL_OUT_OF_ORDER, "get_fog_lighting", "set_view has not been called");
+    AtmoResult result = ATMO_STATUS_NOTHING_TO_DRAW;
+    std::memset(reinterpret_cast<char*>(&f) + sizeof(f.header), 0, sizeof(f) - sizeof(f.header));
+    if (ctx->fog.enabled() && !ctx->lights.lights.empty()) {
+      const double threshold = glow_threshold(ctx, view);
+      const atmo::abi::FogFrame& frame = view_fog_frame(ctx, view);
+      // The view's world axes from the eye's ENU.
+      glm::dmat3 world_from_ecef(1.0);
+      if (view->state.world_frame == ATMO_WORLD_ENU) {
+        const double* o = view->state.world_origin_geodetic;
+        world_from_ecef = glm::transpose(atmo::core::ecef_from_enu(o[0], o[1]));
+      }
+      const glm::dmat3 world_from_enu = world_from_ecef * view->eye.ecef_from_enu;
+      const std::vector<float> range = atmo::abi::surface_light_ranges(ctx->fog, frame, threshold);
+      std::string error;
+      if (!ctx->fog_renderer.upload_tables(ctx->fog.airlight, ctx->fog.surface, ctx->fog.version, &error) ||
+          !ctx->fog_renderer.upload_host_lights(frame, world_from_enu, range, &error))
+        return fail(ctx, ATMO_ERROR_GL, "get_fog_lighting", error);
+      f.light_count = static_cast<uint32_t>(frame.lights.size());
+      f.light_texture = ctx->fog_renderer.light_texture();
+      f.surface_table = ctx->fog_renderer.surface_table();
+      f.surface_table_size[0] = ctx->fog.surface.width;
+      f.surface_table_size[1] = ctx->fog.surface.height / atmo::fog::kSurfaceLayers;
+      f.medium[0] = ctx->fog.optics.extinction_per_m;
+      f.medium[1] = ctx->fog.optics.albedo;
+      f.medium[2] = frame.top_above_eye_m;
+      for (int i = 0; i < 4; ++i) f.diffusion[i] = frame.diffusion[i];
+      const glm::dvec3 up = world_from_enu * glm::dvec3(0.0, 0.0, 1.0);
+      for (int i = 0; i < 3; ++i) f.up_world[i] = up[i];
+      result = ATMO_SUCCESS;
+    }
+    const size_t n = out->header.struct_size < sizeof(f) ? out->header.struct_size : sizeof(f);
+    f.header = out->header;
+    std::memcpy(static_cast<void*>(out), &f, n);
+    return result;
+  });
 }
 
 AtmoResult get_lighting(AtmoView view_handle, AtmoLighting* out) {
@@ -631,6 +775,9 @@ const AtmoPluginApi kApi = {
     &get_lighting,
     &set_clouds,
     &get_cloud_shadows,
+    &set_fog,
+    &set_lights,
+    &get_fog_lighting,
 };
 
 }  // namespace

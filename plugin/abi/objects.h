@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "abi/cloud_inputs.h"
+#include "abi/fog_inputs.h"
 #include "abi/host_services.h"
 #include "abi/table_builder.h"
 #include "atmo/atmo.h"
@@ -21,6 +22,7 @@
 #include "core/sky_bodies.h"
 #include "core/sky_lighting.h"
 #include "gl/cloud_renderer.h"
+#include "gl/fog_renderer.h"
 #include "gl/night_renderer.h"
 #include "gl/renderer.h"
 
@@ -58,6 +60,13 @@ struct AtmoContext_T {
   atmo::abi::ContextClouds clouds;
   atmo::gl::CloudRenderer cloud_renderer;
 
+  // Fog (set_fog) and the host's lights (set_lights); their GL objects are
+  // built by the first fog pass or get_fog_lighting with fog.
+  atmo::abi::ContextFog fog;
+  atmo::abi::ContextLights lights;
+  atmo::gl::FogRenderer fog_renderer;
+  uint64_t fog_serial = 0;  // bumps on every set_fog and set_lights (the views' fog frames follow)
+
   atmo::gl::Renderer renderer;
   // The night sky's point pass: its programs are built by the first night
   // pass that has something to draw (a daytime host never pays for them).
@@ -85,6 +94,7 @@ struct AtmoView_T {
   bool have_state = false;
   AtmoViewState state{};
   atmo::core::EyeFrame eye;
+  uint64_t state_serial = 0;  // bumps on every set_view
   // The Sun and the Moon at this view's eye, reused while good to 1.5".
   atmo::core::SkyBodiesCache sky_bodies;
 
@@ -106,6 +116,12 @@ struct AtmoView_T {
   double sky_lighting_altitude_m = 0.0;
   uint64_t sky_lighting_lut_version = 0;
   atmo::core::SkyLighting sky_lighting;
+
+  // The lights of this view's frame in the fog (make_fog_frame: every light
+  // against the eye, glow bounds, the diffusion sum), shared by
+  // get_fog_lighting and the glow pass, and the serials it was made at.
+  std::optional<atmo::abi::FogFrame> fog_frame;
+  uint64_t fog_frame_context_serial = 0, fog_frame_view_serial = 0;
 };
 
 namespace atmo::abi {

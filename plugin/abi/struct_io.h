@@ -30,6 +30,9 @@ ATMO_V1_SIZE(AtmoLighting, 104);
 ATMO_V1_SIZE(AtmoCloudLayer, 168);
 ATMO_V1_SIZE(AtmoCloudsState, 80);
 ATMO_V1_SIZE(AtmoCloudShadows, 184);
+ATMO_V1_SIZE(AtmoFogState, 64);
+ATMO_V1_SIZE(AtmoLightsState, 72);
+ATMO_V1_SIZE(AtmoFogLighting, 136);
 #undef ATMO_V1_SIZE
 
 struct ReadError {

@@ -53,6 +53,13 @@ int main(int argc, char** argv) {
   app.add_option("--visibility", settings.visibility_m, "Meteorological visibility, m")
       ->check(CLI::Range(50.0, 500000.0))
       ->capture_default_str();
+  app.add_option("--fog", settings.fog_visibility_m,
+                 "Ground fog's visibility (MOR), m; the runway's lights glow in it (0: no fog)")
+      ->check(CLI::Range(0.0, 5000.0))
+      ->capture_default_str();
+  app.add_option("--fog-top", settings.fog_top_m, "Fog top above the airfield, m")
+      ->check(CLI::Range(1.0, 3000.0))
+      ->capture_default_str();
   app.add_option("--ev", settings.ev100, "Exposure, EV100")->capture_default_str();
   app.add_option("--depth", depth, "Depth convention")
       ->check(CLI::IsMember({"standard", "reversed", "log", "logarithmic"}))

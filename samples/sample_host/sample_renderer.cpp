@@ -237,6 +237,22 @@ FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t
       context_->set_atmosphere(air);
       last_visibility_m_ = settings.visibility_m;
     }
+    if (settings.fog_visibility_m != last_fog_visibility_m_ || settings.fog_top_m != last_fog_top_m_) {
+      // Fog: the plugin's medium and the runway's lights in it; no fog, no lights (no glow cost).
+      const std::vector<AtmoLightPoint> points =
+          settings.fog_visibility_m > 0.0 ? terrain_->atmo_light_points() : std::vector<AtmoLightPoint>{};
+      if (settings.fog_visibility_m > 0.0) {
+        auto fog = atmo::make<AtmoFogState>(ATMO_TYPE_FOG_STATE);
+        fog.visibility_m = settings.fog_visibility_m;
+        fog.top_height_m = settings.origin.height_m + settings.fog_top_m;
+        context_->set_fog(fog);
+      } else {
+        context_->clear_fog();
+      }
+      context_->set_lights(hs::lights_state_enu(settings.origin, points));  // threshold: 1/2000 of the view's white
+      last_fog_visibility_m_ = settings.fog_visibility_m;
+      last_fog_top_m_ = settings.fog_top_m;
+    }
     auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
     frame.host_frame_number = frame_number;
     frame.utc_posix_s = settings.utc_posix_s;
@@ -244,6 +260,8 @@ FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t
     view_->set(hs::make_view_state(setup));
     report.lighting = view_->lighting();
     report.scene_lighting = hs::lighting_from_atmo(report.lighting);
+    // The plugin's lights in its fog, for the terrain's own shader (atmo_fog_lights.glsl).
+    report.fog_lighting = view_->fog_lighting();
   } catch (const atmo::Error& e) {
     report.errors.push_back(e.what());
     plugin_ready = false;
@@ -260,7 +278,8 @@ FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
     timers_.begin(kSectionTerrain);
-    terrain_->draw(setup, report.scene_lighting);
+    terrain_->draw(setup, report.scene_lighting,
+                   report.fog_lighting.light_count > 0 ? &report.fog_lighting : nullptr);
     timers_.end();
 
     if (plugin_ready) {

@@ -35,6 +35,7 @@ struct FrameReport {
   bool timings_valid = false;
   std::array<AtmoResult, ATMO_PASS_COUNT> pass_results{};
   AtmoLighting lighting{};          // from get_lighting
+  AtmoFogLighting fog_lighting{};   // from get_fog_lighting (light_count 0: no fog or no lights)
   host_scene::SceneLighting scene_lighting;
   std::vector<std::string> errors;  // plugin errors and error-level log messages of this frame
   double cpu_ms = 0.0;              // CPU time of render_frame
@@ -77,6 +78,7 @@ class SampleRenderer {
   std::unique_ptr<atmo::View> view_;
   std::unique_ptr<host_scene::Terrain> terrain_;
   double last_visibility_m_ = -1.0;
+  double last_fog_visibility_m_ = -1.0, last_fog_top_m_ = -1.0;
 
   // scene_fbo_: colour + depth, for opaques. atmo_fbo_: the same colour only,
   // for the plugin's passes, which sample the depth texture (no feedback loop).

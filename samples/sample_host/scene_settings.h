@@ -14,6 +14,10 @@ struct SceneSettings {
   host_scene::CameraPose pose;
   double utc_posix_s = 1718982000.0;  // 2024-06-21T15:00:00Z
   double visibility_m = 40000.0;
+  // Ground fog lit by the runway's lights (set_fog, set_lights): MOR in the
+  // fog, m (0: no fog), and its top above the airfield datum, m.
+  double fog_visibility_m = 0.0;
+  double fog_top_m = 100.0;
   host_scene::DepthConvention depth_convention = host_scene::DepthConvention::Reversed;
   double ev100 = 15.0;
   double vfov_deg = 60.0;

@@ -181,6 +181,16 @@ void draw_panel(const SampleRenderer& renderer, const FrameReport& report, FlyCa
     if (ImGui::SliderFloat("Visibility (m)", &visibility, 50.0f, 500000.0f, "%.0f", ImGuiSliderFlags_Logarithmic)) {
       s->visibility_m = visibility;
     }
+    bool fog = s->fog_visibility_m > 0.0;
+    if (ImGui::Checkbox("Ground fog", &fog)) s->fog_visibility_m = fog ? 200.0 : 0.0;
+    if (fog) {
+      float mor = static_cast<float>(s->fog_visibility_m), top = static_cast<float>(s->fog_top_m);
+      if (ImGui::SliderFloat("Fog visibility (m)", &mor, 10.0f, 5000.0f, "%.0f", ImGuiSliderFlags_Logarithmic))
+        s->fog_visibility_m = mor;
+      if (ImGui::SliderFloat("Fog top (m)", &top, 1.0f, 3000.0f, "%.0f", ImGuiSliderFlags_Logarithmic))
+        s->fog_top_m = top;
+      ImGui::Text("%u lights in the fog", report.fog_lighting.light_count);
+    }
     float ev = static_cast<float>(s->ev100);
     if (ImGui::SliderFloat("Exposure EV100", &ev, -6.0f, 18.0f, "%.1f")) s->ev100 = ev;
     ImGui::TextUnformatted("Depth");

@@ -14,7 +14,11 @@ TEST(StructLayout, Version1SizesAreFrozen) {
   EXPECT_EQ(sizeof(AtmoNegotiateInfo), V1Size<AtmoNegotiateInfo>::value);
   // The function table grew at its end (set_clouds); 144-byte hosts get no clouds.
   EXPECT_EQ(V1Size<AtmoPluginApi>::value, 144u);
-  EXPECT_EQ(sizeof(AtmoPluginApi), 160u);  // then get_cloud_shadows
+  EXPECT_EQ(sizeof(AtmoPluginApi), 184u);  // 160 with get_cloud_shadows, then set_fog, set_lights, get_fog_lighting
+  EXPECT_EQ(sizeof(AtmoFogState), V1Size<AtmoFogState>::value);
+  EXPECT_EQ(sizeof(AtmoLightsState), V1Size<AtmoLightsState>::value);
+  EXPECT_EQ(sizeof(AtmoLightPoint), 96u);  // the array's stride is AtmoLightsState.light_size
+  EXPECT_EQ(sizeof(AtmoFogLighting), V1Size<AtmoFogLighting>::value);
   EXPECT_EQ(sizeof(AtmoCloudShadows), V1Size<AtmoCloudShadows>::value);
   EXPECT_EQ(sizeof(AtmoCloudLayer), V1Size<AtmoCloudLayer>::value);
   // AtmoCloudsState grew at its end (impostor settings); 80-byte hosts get the defaults.

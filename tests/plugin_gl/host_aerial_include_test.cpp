@@ -7,33 +7,12 @@
 #include <fstream>
 #include <sstream>
 
+#include "host_shader.h"
 #include "plugin_gl_fixture.h"
 
 using namespace plugin_gl;
 
 namespace {
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-GLuint compile(GLenum stage, const std::string& source) {
-  GLuint s = glCreateShader(stage);
-  const char* text = source.c_str();
-  glShaderSource(s, 1, &text, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[4096];
-    glGetShaderInfoLog(s, sizeof log, nullptr, log);
-    ADD_FAILURE() << "host shader: " << log;
-  }
-  return s;
-}
 
 // A host transparent surface covering the screen at the host depth `depth`
 // (standard convention): colour = include(surface colour, distance).

@@ -1,8 +1,10 @@
 # ctest -P script: run atmo-sample-host headless into a clean folder, then
 # check its exit code and that every frame_NNN.png exists and is not empty.
+# EXTRA_ARGS: more options (a ;-list), e.g. the fog example's.
 file(REMOVE_RECURSE ${OUT_DIR})
+string(REPLACE "," ";" extra "${EXTRA_ARGS}")
 execute_process(
-  COMMAND ${SAMPLE_HOST} --plugin ${PLUGIN} --frames ${FRAMES} --out ${OUT_DIR} --width 320 --height 180
+  COMMAND ${SAMPLE_HOST} --plugin ${PLUGIN} --frames ${FRAMES} --out ${OUT_DIR} --width 320 --height 180 ${extra}
   RESULT_VARIABLE result)
 if(NOT result EQUAL 0)
   message(FATAL_ERROR "atmo-sample-host exited with ${result}")

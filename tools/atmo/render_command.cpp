@@ -161,6 +161,37 @@ void set_clouds(const sc::Scenario& scenario, atmo::Context& context) {
   if (r != ATMO_SUCCESS) std::printf("  clouds: %s\n", context.last_error().c_str());
 }
 
+// The scenario's fog through set_fog (none: no call, no cost).
+void set_fog(const sc::Scenario& scenario, atmo::Context& context) {
+  if (!scenario.fog) return;
+  AtmoFogState fog = atmo::make<AtmoFogState>(ATMO_TYPE_FOG_STATE);
+  fog.visibility_m = scenario.fog->visibility_m;
+  fog.top_height_m = scenario.location.height_m + scenario.fog->top_m;  // the file's top is above the ENU origin
+  context.set_fog(fog);
+}
+
+// The scenario's lights (the runway's approach, threshold and edge lights
+// when asked for, beamed along the approach, and its own points) through
+// set_lights, ENU at the scenario's origin; glows dimmer than 1/2000 of the
+// camera's white are not drawn.
+void set_lights(const sc::Scenario& scenario, const hs::Terrain& terrain, double exposure, atmo::Context& context) {
+  if (!scenario.lights) return;
+  std::vector<AtmoLightPoint> points;
+  if (scenario.lights->runway_approach) points = terrain.atmo_light_points();
+  for (const sc::LightPoint& l : scenario.lights->points) {
+    AtmoLightPoint p{};
+    for (int k = 0; k < 3; ++k) {
+      p.position_m[k] = l.enu_m[k];
+      p.color[k] = l.color[k];
+    }
+    p.intensity_cd = l.intensity_cd;
+    points.push_back(p);
+  }
+  const hs::Geodetic origin{scenario.location.latitude_deg, scenario.location.longitude_deg,
+                            scenario.location.height_m};
+  context.set_lights(hs::lights_state_enu(origin, points, 1.0 / (2000.0 * exposure)));
+}
+
 int run_render(const Options& options) {
   sc::LoadResult loaded = sc::load_scenario_file(options.scenario_path);
   if (!loaded.scenario) {
@@ -200,6 +231,7 @@ int run_render(const Options& options) {
     context.set_frame(frame);
 
     set_clouds(scenario, context);
+    set_fog(scenario, context);
 
     hs::Terrain terrain(terrain_of(scenario));
     if (!terrain.gl_init(&error)) throw std::runtime_error("terrain: " + error);
@@ -246,6 +278,7 @@ int run_render(const Options& options) {
         view.set(hs::make_view_state(setup));
       }
       const hs::SceneLighting scene_lighting = hs::lighting_from_atmo(lighting);
+      set_lights(scenario, terrain, exposure, context);
       std::printf("camera %s: %dx%d, sun elevation %.2f°, azimuth %.2f°, EV100 %.1f, depth %s\n", cam.name.c_str(),
                   cam.width, cam.height, sun_elevation_deg, glm::degrees(lighting.sun_azimuth_rad), ev100,
                   hs::to_string(depth));
@@ -264,8 +297,9 @@ int run_render(const Options& options) {
           if (!depth_state.ok()) throw std::runtime_error("the GL context lacks glClipControl for reversed depth");
           glClearDepth(hs::clear_depth_value(depth));
           glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+          const AtmoFogLighting fog_lighting = view.fog_lighting();
           timer.time([&] {
-            terrain.draw(setup, scene_lighting);
+            terrain.draw(setup, scene_lighting, &fog_lighting);
             return 0;
           });
           timings[0].ms.push_back(timer.last_ms());

@@ -114,6 +114,9 @@ typedef enum AtmoStructType {
   ATMO_TYPE_CLOUD_LAYER = 0x4154000B,
   ATMO_TYPE_CLOUDS_STATE = 0x4154000C,
   ATMO_TYPE_CLOUD_SHADOWS = 0x4154000D,
+  ATMO_TYPE_FOG_STATE = 0x4154000E,
+  ATMO_TYPE_LIGHTS_STATE = 0x4154000F,
+  ATMO_TYPE_FOG_LIGHTING = 0x41540010,
   ATMO_TYPE_MAX_ENUM = 0x7fffffff
 } AtmoStructType;
 
@@ -358,7 +361,14 @@ typedef enum AtmoPass {
      ATMO_STATUS_NOTHING_TO_DRAW, with no GL call, when no star or planet can
      change a pixel at this exposure (daylight). docs/NIGHT_SKY.md. */
   ATMO_PASS_NIGHT_SKY = 3,
-  ATMO_PASS_LIGHT_GLOWS = 4,  /* glows of host lights in fog (not yet supported: nothing to draw) */
+  /* Fog (set_fog) over everything drawn so far, from the host depth: colour =
+     colour * fog transmittance + the fog's own light, and the glows of the
+     host's lights (set_lights) around them in the fog. Call last, after the
+     clouds and the host's opaques (whose fogged lighting comes from
+     atmo_fog_lights.glsl, which leaves the fog between surface and eye to this
+     pass). ATMO_STATUS_NOTHING_TO_DRAW, with no GL call, without fog.
+     docs/FOG.md. */
+  ATMO_PASS_LIGHT_GLOWS = 4,
   ATMO_PASS_COUNT = 5
 } AtmoPass;
 
@@ -464,6 +474,90 @@ typedef struct AtmoCloudShadows {
   double light_direction_world[3]; /* unit, towards the light the map was made for, world axes */
   double texel_m;              /* texel edge on the ground plane, m */
 } AtmoCloudShadows;
+
+/* ------------------------------------------------------------------------ */
+/* Fog and the host's lights                                                 */
+/* ------------------------------------------------------------------------ */
+
+/* How the fog scatters (docs/FOG.md charts each choice's error). */
+typedef enum AtmoFogScattering {
+  /* Single scattering (Sun et al. 2005, in a stable form) handing over to a
+     diffusion term for multiple scattering as the fog thickens. The default. */
+  ATMO_FOG_SCATTERING_AUTO = 0,
+  /* Single scattering only (the paper's model): right to ~10 % up to optical
+     thickness ~1, too dark beyond. */
+  ATMO_FOG_SCATTERING_SINGLE = 1,
+  ATMO_FOG_SCATTERING_COUNT = 2
+} AtmoFogScattering;
+
+/* A homogeneous fog layer on the ground: from below the terrain up to
+   top_height_m. Zero fields take the defaults given; all zero: no fog. */
+typedef struct AtmoFogState {
+  AtmoStructHeader header;      /* ATMO_TYPE_FOG_STATE */
+  /* Meteorological optical range in the fog, m: extinction = ln(20) / MOR, as
+     AtmoAtmosphereState.visibility_m (the same 5 % contrast threshold).
+     [10, 100 000]. 0: use extinction_per_m. */
+  double visibility_m;
+  double extinction_per_m;      /* used when visibility_m is 0: [0, 1]; 0 (both 0): no fog */
+  /* Height of the fog's top above the WGS84 ellipsoid, m; 0: no top (the fog
+     fills the air everywhere). [-500, 20 000]. Heights of lights and surfaces
+     are taken in the tangent plane at the eye (good to ~2 m at 5 km). */
+  double top_height_m;
+  /* Henyey-Greenstein asymmetry of the droplets' phase function. 0: default
+     0.85 (radiation fog, ~10 um droplets). [-0.95, 0.95]; for isotropic
+     scattering give a tiny value such as 1e-6. */
+  double phase_asymmetry;
+  /* Single-scattering albedo. 0: default 0.999 (water). (0, 1]. */
+  double single_scattering_albedo;
+  uint32_t scattering;          /* AtmoFogScattering */
+  /* Lookup-table side for the airlight special function, [8, 512]; 0: default 64. */
+  uint32_t airlight_table_size;
+} AtmoFogState;
+
+/* One light of the host's (an approach light, a street lamp, a headlight). */
+typedef struct AtmoLightPoint {
+  double position_m[3];         /* in the lights' world frame (AtmoLightsState.world_frame), metres, each [-1e9, 1e9] */
+  double intensity_cd;          /* luminous intensity on the axis, cd, [0, 1e8] */
+  double color[3];              /* linear Rec.709 RGB multiplier of the intensity, each [0, 16] */
+  /* Cone (headlights, beamed runway lights): the intensity is
+     intensity_cd * smoothstep(cos(outer), cos(inner), cos(angle to the axis)).
+     cone_outer_rad = 0: omnidirectional (axis and inner ignored).
+     Otherwise 0 <= inner < outer <= pi and the axis is a non-zero vector. */
+  double direction[3];          /* cone axis, world axes; need not be unit */
+  double cone_inner_rad;
+  double cone_outer_rad;
+} AtmoLightPoint;
+
+typedef struct AtmoLightsState {
+  AtmoStructHeader header;      /* ATMO_TYPE_LIGHTS_STATE */
+  uint32_t world_frame;         /* AtmoWorldFrame of the positions and axes */
+  /* sizeof(AtmoLightPoint) as the host compiled it: the array's stride, so the
+     light struct can grow. >= 96 (version 1). */
+  uint32_t light_size;
+  double world_origin_geodetic[3]; /* ATMO_WORLD_ENU: the frame's origin (lat deg, lon deg, h m) */
+  const AtmoLightPoint* lights; /* light_count entries, light_size bytes apart; copied */
+  uint32_t light_count;         /* [0, 16 384]; 0: no lights (no glow cost) */
+  uint32_t reserved;            /* 0 */
+  /* Glows dimmer than this are not drawn (each light's glow is drawn only
+     where it may exceed it: docs/FOG.md), cd/m^2. 0: default, 1/2000 of the
+     view's white (1 / exposure_scale). */
+  double glow_threshold_cd_m2;
+} AtmoLightsState;
+
+/* What a host's surface shader needs for atmo_fog_lights.glsl (its header
+   says how to bind each field). Filled by get_fog_lighting. */
+typedef struct AtmoFogLighting {
+  AtmoStructHeader header;      /* ATMO_TYPE_FOG_LIGHTING; the host sets header, the plugin fills the rest */
+  uint32_t light_count;         /* lights in light_texture; 0 without fog or lights (then skip the include) */
+  uint32_t light_texture;       /* GL_TEXTURE_2D RGBA32F, 4 x light_count texels, positions relative to this
+                                   view's eye in its world axes (valid until the next get_fog_lighting) */
+  uint32_t surface_table;       /* GL_TEXTURE_2D R32F, GL_LINEAR */
+  uint32_t reserved;
+  double surface_table_size[2]; /* for atmo_fog_surface_table_size */
+  double medium[4];             /* for atmo_fog_medium: extinction 1/m, albedo, fog top above the eye m, 0 */
+  double diffusion[4];          /* for atmo_fog_diffusion */
+  double up_world[3];           /* for atmo_fog_up */
+} AtmoFogLighting;
 
 /* ------------------------------------------------------------------------ */
 /* Lighting for the host's own shading                                       */
@@ -601,6 +695,20 @@ typedef struct AtmoPluginApi {
      clouds: ATMO_STATUS_NOTHING_TO_DRAW and texture 0. NULL in a table from
      a plugin that predates it. [ctx-sync][gl-current] */
   AtmoResult (*get_cloud_shadows)(AtmoView view, AtmoCloudShadows* out_shadows);
+
+  /* --- Added with fog (a host whose table ends above gets NULL here) --- */
+  /* Sets the fog; NULL or all-zero extinction: no fog. Builds the fog's
+     lookup tables on the calling thread (~0.1-0.5 s when the phase function
+     changes; the same phase reuses them). On error the fog is unchanged. [ctx-sync][no-gl] */
+  AtmoResult (*set_fog)(AtmoContext context, const AtmoFogState* state);
+  /* Replaces the host's lights (copied); NULL or 0 lights: none. On error the
+     lights are unchanged. [ctx-sync][no-gl] */
+  AtmoResult (*set_lights)(AtmoContext context, const AtmoLightsState* state);
+  /* The fog's lighting for the host's surface shaders this frame (uploads the
+     lights relative to this view's eye). Needs gl_init, set_frame and
+     set_view. Without fog or lights: ATMO_STATUS_NOTHING_TO_DRAW and
+     light_count 0. [ctx-sync][gl-current] */
+  AtmoResult (*get_fog_lighting)(AtmoView view, AtmoFogLighting* out_lighting);
 } AtmoPluginApi;
 
 /* The one exported entry point. The host fills `host` and sets

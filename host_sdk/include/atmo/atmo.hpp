@@ -105,6 +105,19 @@ class Context {
     return r == ATMO_ERROR_IO ? r : check(r, "set_clouds");
   }
 
+  void set_fog(const AtmoFogState& s) {
+    if (!api_->set_fog) throw std::runtime_error("set_fog: the plugin has no fog (an older plugin)");
+    check(api_->set_fog(context_, &s), "set_fog");
+  }
+  // No fog (an older plugin without fog has none to clear).
+  void clear_fog() {
+    if (api_->set_fog) check(api_->set_fog(context_, nullptr), "set_fog");
+  }
+  void set_lights(const AtmoLightsState& s) {
+    if (!api_->set_lights) throw std::runtime_error("set_lights: the plugin has no lights (an older plugin)");
+    check(api_->set_lights(context_, &s), "set_lights");
+  }
+
   AtmoContext handle() const { return context_; }
   const AtmoPluginApi& api() const { return *api_; }
 
@@ -145,6 +158,13 @@ class View {
   AtmoLighting lighting() const {
     auto out = make<AtmoLighting>(ATMO_TYPE_LIGHTING);
     context_->check(context_->api().get_lighting(view_, &out), "get_lighting");
+    return out;
+  }
+  // [gl-current] light_count 0 without fog or lights (or from an older plugin).
+  AtmoFogLighting fog_lighting() const {
+    auto out = make<AtmoFogLighting>(ATMO_TYPE_FOG_LIGHTING);
+    if (context_->api().get_fog_lighting)
+      context_->check(context_->api().get_fog_lighting(view_, &out), "get_fog_lighting");
     return out;
   }
   AtmoView handle() const { return view_; }

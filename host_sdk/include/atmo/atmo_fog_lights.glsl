@@ -73,7 +73,7 @@ ATMO_FOG_FN float atmo_fog_thickness_coordinate(float u) { return sqrt(u / (1.0f
 // everywhere; only this function's smoothness matters, not its accuracy, as
 // the table is built with the same function.
 ATMO_FOG_FN float atmo_fog_ghat_scale(float u, float y) {
-  float a = u / max(y, 1.0e-30f);
+  float a = min(u / max(y, 1.0e-30f), 1.0e30f);  // inf / inf would be NaN
   float k;
   if (a < 1.0f) {
     float e1_plus_log = -0.57721566f + a * (0.99999193f + a * (-0.24991055f + a * (0.05519968f +
@@ -123,8 +123,9 @@ ATMO_FOG_FN float atmo_fog_cone(vec3 axis, float cos_inner, float cos_outer, vec
 // with h = D sin(gamma) the light's distance from the ray's line, d_sp the
 // light's distance from the surface point and v1 = pi/4 + atan2(d_vp - D cos(gamma), h) / 2.
 // Both terms are positive and well scaled, whatever the angle (docs/FOG.md).
-// min_sin: floor of sin(gamma) (the pixel's angular radius / 2: the mean of
-// the 1/gamma core over a pixel).
+// min_sin: floor of sin(gamma), 0.2836 of a pixel's angle: then the pixel
+// on the light gets the mean of the 1/gamma core over the square pixel
+// (tests/fog_reference/fog_airlight_accuracy_test.cpp).
 ATMO_FOG_FN float atmo_fog_airlight(ATMO_FOG_IN(ATMO_FOG_TABLE) table, float size, float beta, float distance,
                                     float cos_gamma, float d_vp, float min_sin) {
   if (d_vp <= 0.0f) return 0.0f;
@@ -141,10 +142,59 @@ ATMO_FOG_FN float atmo_fog_airlight(ATMO_FOG_IN(ATMO_FOG_TABLE) table, float siz
   return beta / (2.0f * ATMO_FOG_PI * h) * max(near_term - far_term, 0.0f);
 }
 
+// Steps of a cone light's glow integral (atmo_fog_glow).
+const float ATMO_FOG_CONE_STEPS = 8.0f;
+
+// One light's glow along the unit view ray `dir` from the eye, per unit
+// intensity and albedo (as atmo_fog_airlight). to_light: the light minus the
+// eye, m; axis, cos_inner, cos_outer: its cone (cos_outer < -1.5: omni).
+// Seen from the light, the ray's points t = t0 + h tan(theta) (t0 the closest
+// approach) carry equal weight per d(theta) under the 1/d^2 law, and the
+// stable form's terms at theta are exp(-beta (t0 + h tan v)) Ghat(beta h, v),
+// v = pi/4 + theta/2. A cone light's integral is therefore split into
+// ATMO_FOG_CONE_STEPS equal steps of theta from the eye to d_vp, each the
+// difference of the terms at its ends (exact) times the cone's profile at
+// its middle (the approximation; docs/FOG.md measures it). The steps
+// telescope: with profile 1 they sum to atmo_fog_airlight.
+ATMO_FOG_FN float atmo_fog_glow(ATMO_FOG_IN(ATMO_FOG_TABLE) table, float size, float beta, vec3 to_light, vec3 dir,
+                                vec3 axis, float cos_inner, float cos_outer, float d_vp, float min_sin) {
+  float distance = length(to_light);
+  float cos_gamma = dot(dir, to_light) / max(distance, 1.0e-3f);
+  if (cos_outer < -1.5f) return atmo_fog_airlight(table, size, beta, distance, cos_gamma, d_vp, min_sin);
+  if (d_vp <= 0.0f) return 0.0f;
+  float cg = clamp(cos_gamma, -1.0f, 1.0f);
+  float sg = max(sqrt(max(1.0f - cg * cg, 0.0f)), min_sin);
+  float h = max(distance * sg, 1.0e-4f);
+  float t0 = distance * cg;
+  float u = beta * h;
+  // Unit vector from the ray's closest point to the light (any perpendicular when the light is on the ray).
+  vec3 across = to_light - dir * t0;
+  vec3 n = length(across) > 1.0e-6f * distance ? normalize(across) : normalize(cross(dir, vec3(0.577f, 0.577f, 0.577f)));
+  float theta_eye = atan(-t0, h);
+  float theta_end = d_vp >= ATMO_FOG_FAR ? 0.5f * ATMO_FOG_PI : atan(d_vp - t0, h);
+  float step = (theta_end - theta_eye) / ATMO_FOG_CONE_STEPS;
+  float previous = exp(-beta * distance) * atmo_fog_ghat(table, size, u, 0.5f * atan(sg, cg));
+  float sum = 0.0f;
+  for (int k = 1; k <= int(ATMO_FOG_CONE_STEPS); ++k) {
+    float theta = theta_eye + float(k) * step;
+    float v = 0.25f * ATMO_FOG_PI + 0.5f * theta;
+    float term = theta >= 0.5f * ATMO_FOG_PI - 1.0e-5f
+                     ? 0.0f
+                     : exp(-beta * max(t0 + h * tan(v), 0.0f)) * atmo_fog_ghat(table, size, u, v);
+    float middle = theta - 0.5f * step;
+    vec3 from_light = dir * sin(middle) - n * cos(middle);
+    sum += atmo_fog_cone(axis, cos_inner, cos_outer, from_light) * max(previous - term, 0.0f);
+    previous = term;
+  }
+  return beta / (2.0f * ATMO_FOG_PI * h) * sum;
+}
+
 // The surface table's G_n(T, theta) (the paper's eq. 16 with the phase
 // function folded in; n = 1 is the Lambertian G_0): rows are layers of
 // exponent 2^k, k = 0..8, each `size.y` rows of theta in [0, pi] by `size.x`
-// columns of the thickness coordinate of T; texels hold (1 + T) e^T G_n.
+// columns of the thickness coordinate of T (the last column holds T = 100);
+// texels hold e^T G_n, which varies slowly (5.9 at T = 2, 3.4 at T = 100 for
+// n = 1, theta = 0, g = 0.85).
 // Between exponents the layers are interpolated in log2(n). Returns e^T G_n.
 ATMO_FOG_FN float atmo_fog_surface_g(ATMO_FOG_IN(ATMO_FOG_TABLE) table, vec2 size, float thickness, float theta,
                                      float exponent) {
@@ -155,21 +205,35 @@ ATMO_FOG_FN float atmo_fog_surface_g(ATMO_FOG_IN(ATMO_FOG_TABLE) table, vec2 siz
   float rows = size.y * ATMO_FOG_SURFACE_LAYERS;
   float g0 = atmo_fog_table_fetch(table, vec2(x, (k0 * size.y + row) / rows));
   float g1 = atmo_fog_table_fetch(table, vec2(x, ((k0 + 1.0f) * size.y + row) / rows));
-  return mix(g0, g1, k - k0) / (1.0f + thickness);
+  return mix(g0, g1, k - k0);
 }
 
 // Diffusion (P1) light of a point light, per unit intensity, at `distance`
 // metres: x = fluence (per sr-weighted cd: cd/m^2 * sr), y = net flux (lux per
-// cd, away from the light). diffusion = (sigma_tr, mu, rate, on):
+// cd, away from the light). diffusion = (sigma_tr, mu, rate, cap):
 // sigma_tr = beta (1 - albedo g) the transport coefficient, mu the decay
-// (absorption and escape through the top), rate the handover: the term is
-// scaled by 1 - exp(-rate * thickness), ~0 where single scattering holds.
+// (absorption and escape through the top), rate the handover: with
+// t = min(thickness, cap) the fluence is scaled by 1 - exp(-rate t) and the
+// flux by (1 - exp(-0.4 rate t))^2, ~0 where single scattering holds. The
+// flux hands over later: near the light the P1 flux is mostly the
+// unscattered beam's, which only the glow shows, and its cosine lobe would
+// spread the narrow forward lobe of the scattered light over wide angles
+// (docs/measurements/fog_multiple_scattering.md: the form and the rate
+// fitted to the Monte Carlo). cap is the layer's vertical optical thickness
+// (a photon in a thin layer escapes before it scatters much), 0: multiple
+// scattering off.
 // thickness: the fog's optical thickness between the light and the point.
-ATMO_FOG_FN vec2 atmo_fog_diffusion_light(vec4 diffusion, float distance, float thickness) {
+// on_surface: the flux for a surface's irradiance hands over with the
+// fluence (a surface facing the light needs it: 0.97-0.75 of the Monte
+// Carlo's irradiance at T 1-8 with it, 0.80-0.58 with the view's lag).
+ATMO_FOG_FN vec2 atmo_fog_diffusion_light(vec4 diffusion, float distance, float thickness, bool on_surface) {
   float r = max(distance, 0.5f);
-  float handover = (1.0f - exp(-diffusion.z * thickness)) * diffusion.w;
+  float t = min(thickness, diffusion.w);
+  float handover_fluence = 1.0f - exp(-diffusion.z * t);
+  float handover_flux = on_surface ? sqrt(handover_fluence) : 1.0f - exp(-0.4f * diffusion.z * t);
   float e = exp(-diffusion.y * r);
-  return vec2(3.0f * diffusion.x * e / r, (1.0f + diffusion.y * r) * e / (r * r)) * handover;
+  return vec2(3.0f * diffusion.x * e / r * handover_fluence,
+              (1.0f + diffusion.y * r) * e / (r * r) * (handover_flux * handover_flux));
 }
 
 // Radiance per unit intensity that a surface at distance d_sp from a light
@@ -184,7 +248,7 @@ ATMO_FOG_FN vec2 atmo_fog_surface_terms(ATMO_FOG_IN(ATMO_FOG_TABLE) table, vec2 
   float scattered = albedo * beta_path / (2.0f * ATMO_FOG_PI * d) * exp(-thickness);
   float theta_s = acos(clamp(cos_s, -1.0f, 1.0f));
   float theta_r = acos(clamp(cos_r, -1.0f, 1.0f));
-  vec2 p1 = atmo_fog_diffusion_light(diffusion, d, thickness);
+  vec2 p1 = atmo_fog_diffusion_light(diffusion, d, thickness, true);
   float diffuse = direct * max(cos_s, 0.0f) + scattered * atmo_fog_surface_g(table, size, thickness, theta_s, 1.0f) +
                   max(0.25f * p1.x + 0.5f * p1.y * cos_s, 0.0f);
   float specular = direct * pow(max(cos_r, 0.0f), exponent) +
@@ -198,7 +262,7 @@ ATMO_FOG_FN vec2 atmo_fog_surface_terms(ATMO_FOG_IN(ATMO_FOG_TABLE) table, vec2 
 uniform sampler2D atmo_fog_surface_table;
 uniform sampler2D atmo_fog_light_texture;  // RGBA32F, 4 texels per light (one row each)
 uniform vec4 atmo_fog_medium;              // extinction 1/m, albedo, top height above the eye m, unused
-uniform vec4 atmo_fog_diffusion;           // sigma_tr 1/m, mu 1/m, handover rate, on (0/1)
+uniform vec4 atmo_fog_diffusion;           // sigma_tr 1/m, mu 1/m, handover rate, thickness cap (0: off)
 uniform vec3 atmo_fog_up;                  // unit up at the eye, world axes
 uniform vec2 atmo_fog_surface_table_size;
 uniform int atmo_fog_light_count;

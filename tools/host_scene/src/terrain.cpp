@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <fstream>
+#include <iterator>
 
 #include <glad/gl.h>
 
@@ -72,12 +74,14 @@ uniform vec3 u_eye_hi;
 uniform vec3 u_eye_lo;
 out vec3 v_normal;
 out vec3 v_albedo;
+out vec3 v_rel;
 #ifdef LOG_DEPTH
 out float v_w;
 #endif
 void main() {
   vec3 rel = (a_pos_hi - u_eye_hi) + (a_pos_lo - u_eye_lo);
   gl_Position = u_clip_from_rel * vec4(rel, 1.0);
+  v_rel = rel;
   v_normal = a_normal;
   v_albedo = a_albedo;
 #ifdef LOG_DEPTH
@@ -89,6 +93,7 @@ void main() {
 const char* kSurfaceFragment = R"(
 in vec3 v_normal;
 in vec3 v_albedo;
+in vec3 v_rel;
 #ifdef LOG_DEPTH
 in float v_w;
 uniform float u_log_c;
@@ -103,7 +108,12 @@ void main() {
   vec3 n = normalize(v_normal);
   // Lambert: sun plus a hemispherical sky ambient (full when facing up).
   vec3 e = u_sun_lux * max(dot(n, u_sun_dir), 0.0) + u_sky_lux * (0.5 + 0.5 * n.z);
-  o_color = vec4(v_albedo * (1.0 / 3.14159265) * e * u_exposure, 1.0);
+  vec3 radiance = v_albedo * (1.0 / 3.14159265) * e;
+#ifdef FOG_LIGHTS
+  // The plugin's lights in its fog (atmo_fog_lights.glsl): Lambertian albedo / pi plus a faint gloss.
+  radiance += atmo_fog_lights_surface(v_rel, n, v_albedo * (1.0 / 3.14159265), vec3(0.03), 16.0);
+#endif
+  o_color = vec4(radiance * u_exposure, 1.0);
 #ifdef LOG_DEPTH
   gl_FragDepth = log2(u_log_c * v_w + 1.0) * u_log_inv;
 #endif
@@ -464,14 +474,66 @@ void Terrain::build_lights() {
   }
 }
 
+AtmoLightsState lights_state_enu(const Geodetic& origin, const std::vector<AtmoLightPoint>& points,
+                                 double glow_threshold_cd_m2) {
+  AtmoLightsState s{};
+  s.header.type = ATMO_TYPE_LIGHTS_STATE;
+  s.header.struct_size = sizeof(s);
+  s.world_frame = ATMO_WORLD_ENU;
+  s.light_size = sizeof(AtmoLightPoint);
+  s.world_origin_geodetic[0] = origin.latitude_deg;
+  s.world_origin_geodetic[1] = origin.longitude_deg;
+  s.world_origin_geodetic[2] = origin.height_m;
+  s.lights = points.empty() ? nullptr : points.data();
+  s.light_count = static_cast<uint32_t>(points.size());
+  s.glow_threshold_cd_m2 = glow_threshold_cd_m2;
+  return s;
+}
+
+std::vector<AtmoLightPoint> Terrain::atmo_light_points() const {
+  const double h = glm::radians(options_.runway_heading_deg);
+  const glm::dvec3 axis(-std::sin(h), -std::cos(h), std::tan(glm::radians(3.0)));
+  std::vector<AtmoLightPoint> points;
+  points.reserve(lights_.size());
+  for (const LightPoint& l : lights_) {
+    AtmoLightPoint p{};
+    for (int k = 0; k < 3; ++k) {
+      p.position_m[k] = l.position_enu_m[k];
+      p.color[k] = l.color[k];
+      p.direction[k] = axis[k];
+    }
+    p.intensity_cd = l.intensity_cd;
+    p.cone_inner_rad = glm::radians(10.0);
+    p.cone_outer_rad = glm::radians(25.0);
+    points.push_back(p);
+  }
+  return points;
+}
+
 bool Terrain::gl_init(std::string* error) {
   if (gl_ready_) return true;
   if (options_.kind == TerrainOptions::Kind::None) {
     gl_ready_ = true;
     return true;
   }
+  // The host SDK's fog include, pasted after the defines (as a host without #include does).
+  std::string fog_include;
+  {
+    std::ifstream in(ATMO_HOST_SDK_INCLUDE_DIR "/atmo/atmo_fog_lights.glsl");
+    if (!in) {
+      *error = "cannot read " ATMO_HOST_SDK_INCLUDE_DIR "/atmo/atmo_fog_lights.glsl";
+      return false;
+    }
+    fog_include.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
   for (int variant = 0; variant < 2; ++variant) {
     const std::string defines = variant == 1 ? "#define LOG_DEPTH 1\n" : "";
+    fog_program_[variant] = build_program(kSurfaceVertex, kSurfaceFragment, defines + "#define FOG_LIGHTS 1\n" + fog_include,
+                                          "host_scene terrain in fog", error);
+    if (!fog_program_[variant]) {
+      gl_shutdown();
+      return false;
+    }
     surface_program_[variant] =
         build_program(kSurfaceVertex, kSurfaceFragment, defines, "host_scene terrain", error);
     point_program_[variant] = surface_program_[variant]
@@ -544,7 +606,8 @@ void Terrain::gl_shutdown() {
   for (int variant = 0; variant < 2; ++variant) {
     if (surface_program_[variant]) glDeleteProgram(surface_program_[variant]);
     if (point_program_[variant]) glDeleteProgram(point_program_[variant]);
-    surface_program_[variant] = point_program_[variant] = 0;
+    if (fog_program_[variant]) glDeleteProgram(fog_program_[variant]);
+    surface_program_[variant] = point_program_[variant] = fog_program_[variant] = 0;
   }
   for (unsigned* vao : {&terrain_vao_, &runway_vao_, &light_vao_}) {
     if (*vao) glDeleteVertexArrays(1, vao);
@@ -557,7 +620,7 @@ void Terrain::gl_shutdown() {
   gl_ready_ = false;
 }
 
-void Terrain::draw(const ViewSetup& view, const SceneLighting& lighting) const {
+void Terrain::draw(const ViewSetup& view, const SceneLighting& lighting, const AtmoFogLighting* fog) const {
   if (!gl_ready_ || options_.kind == TerrainOptions::Kind::None) return;
   const SavedState saved;
 
@@ -575,9 +638,31 @@ void Terrain::draw(const ViewSetup& view, const SceneLighting& lighting) const {
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
 
-  const GLuint surface = surface_program_[variant];
+  const bool fogged = fog && fog->light_count > 0;
+  const GLuint surface = fogged ? fog_program_[variant] : surface_program_[variant];
   glUseProgram(surface);
   set_common_uniforms(surface, clip_from_rel, eye_hi, eye_lo, view);
+  GLint old_active = 0, old_textures[2] = {0, 0};
+  if (fogged) {
+    // atmo_fog_lights.glsl's inputs, as its header says (units 0 and 1, restored below).
+    glGetIntegerv(GL_ACTIVE_TEXTURE, &old_active);
+    for (int u = 0; u < 2; ++u) {
+      glActiveTexture(GL_TEXTURE0 + u);
+      glGetIntegerv(GL_TEXTURE_BINDING_2D, &old_textures[u]);
+      glBindTexture(GL_TEXTURE_2D, u == 0 ? fog->surface_table : fog->light_texture);
+    }
+    glUniform1i(glGetUniformLocation(surface, "atmo_fog_surface_table"), 0);
+    glUniform1i(glGetUniformLocation(surface, "atmo_fog_light_texture"), 1);
+    glUniform4f(glGetUniformLocation(surface, "atmo_fog_medium"), float(fog->medium[0]), float(fog->medium[1]),
+                float(fog->medium[2]), float(fog->medium[3]));
+    glUniform4f(glGetUniformLocation(surface, "atmo_fog_diffusion"), float(fog->diffusion[0]), float(fog->diffusion[1]),
+                float(fog->diffusion[2]), float(fog->diffusion[3]));
+    glUniform3f(glGetUniformLocation(surface, "atmo_fog_up"), float(fog->up_world[0]), float(fog->up_world[1]),
+                float(fog->up_world[2]));
+    glUniform2f(glGetUniformLocation(surface, "atmo_fog_surface_table_size"), float(fog->surface_table_size[0]),
+                float(fog->surface_table_size[1]));
+    glUniform1i(glGetUniformLocation(surface, "atmo_fog_light_count"), static_cast<GLint>(fog->light_count));
+  }
   glUniform3fv(glGetUniformLocation(surface, "u_sun_dir"), 1, &sun_dir[0]);
   glUniform3fv(glGetUniformLocation(surface, "u_sun_lux"), 1, &sun_lux[0]);
   glUniform3fv(glGetUniformLocation(surface, "u_sky_lux"), 1, &sky_lux[0]);
@@ -596,6 +681,13 @@ void Terrain::draw(const ViewSetup& view, const SceneLighting& lighting) const {
   glBindVertexArray(runway_vao_);
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(runway_vertices_.size()));
   glDisable(GL_POLYGON_OFFSET_FILL);
+  if (fogged) {
+    for (int u = 0; u < 2; ++u) {
+      glActiveTexture(GL_TEXTURE0 + u);
+      glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(old_textures[u]));
+    }
+    glActiveTexture(static_cast<GLenum>(old_active));
+  }
 
   // Light points: additive, tested against depth but not writing it.
   const double pixel_angle = 2.0 * std::tan(0.5 * view.vfov_rad) / std::max(view.viewport[3], 1);

@@ -112,16 +112,9 @@ class Loader {
     }
     if (const json* v = r.field("fog", false, "")) {
       fog(*v, r.child("fog"), &s->fog.emplace());
-      s->not_yet_supported.push_back(
-          {r.child("fog"),
-           "fog validated but not drawn: fog layers are not implemented yet "
-           "(atmosphere.visibility_m still applies)"});
     }
     if (const json* v = r.field("lights", false, "")) {
       lights(*v, r.child("lights"), &s->lights.emplace());
-      s->not_yet_supported.push_back(
-          {r.child("lights"),
-           "lights validated but not drawn: light points and glows are not implemented yet"});
     }
     if (const json* v = r.field("night_sky", false, "")) {
       night_sky(*v, r.child("night_sky"), &s->night_sky.emplace());

@@ -46,6 +46,11 @@ struct LightPoint {
   float intensity_cd = 0;  // towards the viewer (omnidirectional here)
 };
 
+// set_lights' state for `points` in the ENU frame at `origin` (points must
+// outlive the call it is passed to); threshold 0: the plugin's default.
+AtmoLightsState lights_state_enu(const Geodetic& origin, const std::vector<AtmoLightPoint>& points,
+                                 double glow_threshold_cd_m2 = 0.0);
+
 struct TerrainOptions {
   enum class Kind {
     Hills,  // fBm value-noise heightfield, flat around the runway, low under its approaches
@@ -93,6 +98,11 @@ class Terrain {
   int grid() const { return grid_; }
 
   const std::vector<LightPoint>& light_points() const { return lights_; }
+  // The light points for the plugin's set_lights (ENU at the terrain's
+  // origin). Runway lights are beamed at the approaching aircraft: along the
+  // approach, 3 degrees up, full within 10 degrees and none beyond 25 (their
+  // rated intensity is on that axis; docs/FOG.md).
+  std::vector<AtmoLightPoint> atmo_light_points() const;
 
   // [gl-current] Creates programs and buffers; false with *error on failure.
   bool gl_init(std::string* error);
@@ -102,8 +112,10 @@ class Terrain {
 
   // [gl-current] Draws terrain, runway and light points into the bound
   // framebuffer with view.depth_convention (set the host depth state with
-  // DepthSetup first). Restores the GL state it changes.
-  void draw(const ViewSetup& view, const SceneLighting& lighting) const;
+  // DepthSetup first). Restores the GL state it changes. With `fog` (from
+  // get_fog_lighting; light_count > 0) the surfaces are lit by the plugin's
+  // lights in its fog through atmo_fog_lights.glsl.
+  void draw(const ViewSetup& view, const SceneLighting& lighting, const AtmoFogLighting* fog = nullptr) const;
 
  private:
   struct Vertex {
@@ -135,6 +147,7 @@ class Terrain {
   // GL objects; [0] standard/reversed variant, [1] logarithmic-depth variant.
   unsigned surface_program_[2] = {0, 0};
   unsigned point_program_[2] = {0, 0};
+  unsigned fog_program_[2] = {0, 0};  // the surface program with atmo_fog_lights.glsl
   unsigned terrain_vao_ = 0, terrain_vbo_ = 0, terrain_ibo_ = 0;
   unsigned runway_vao_ = 0, runway_vbo_ = 0;
   unsigned light_vao_ = 0, light_vbo_ = 0;

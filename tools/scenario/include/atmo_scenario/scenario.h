@@ -175,8 +175,8 @@ struct Scenario {
   Atmosphere atmosphere;
   std::optional<Terrain> terrain;
   std::vector<CloudLayer> clouds;  // not yet supported
-  std::optional<Fog> fog;          // not yet supported
-  std::optional<Lights> lights;    // not yet supported
+  std::optional<Fog> fog;
+  std::optional<Lights> lights;
   std::optional<NightSky> night_sky;
   Render render;
   Outputs outputs;

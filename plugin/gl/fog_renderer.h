@@ -1,0 +1,74 @@
+// fog_renderer.h — the GL side of ATMO_PASS_LIGHT_GLOWS and get_fog_lighting:
+// the fog's tables as textures, the fog pass (one full-screen triangle:
+// transmittance, ambient and diffusion light) and the glows (one instanced
+// rectangle per light whose glow can exceed the threshold), and the host's
+// light texture. Programs are built on the first pass with fog, so a host
+// without fog never pays for them.
+#pragma once
+
+#include <glad/gl.h>
+
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "abi/fog_inputs.h"
+#include "gl/renderer.h"
+
+namespace atmo::gl {
+
+struct FogDrawInputs {
+  const abi::FogFrame* frame = nullptr;
+  float extinction_per_m = 0.0f;
+  float albedo = 1.0f;
+  glm::vec3 ambient_cd_m2{0.0f};  // the fog's isotropic light from the sky, Sun and Moon
+  float min_sin = 0.0f;           // floor of sin(gamma): 0.2836 of a pixel's angle (entry.cpp)
+  glm::mat4 clip_from_enu{1.0f};  // host projection * (view from the eye's ENU): the glows' rectangles
+};
+
+struct FogDrawStats {
+  int lights = 0;        // lights in the frame
+  int glows_drawn = 0;   // rectangles drawn
+  double covered_pixels = 0.0;  // their summed area (the glow pass's cost)
+};
+
+class FogRenderer {
+ public:
+  FogRenderer() = default;
+  FogRenderer(const FogRenderer&) = delete;
+  FogRenderer& operator=(const FogRenderer&) = delete;
+
+  // [gl-current] Deletes everything; idempotent. forget(): the context is gone (no GL call).
+  void destroy();
+  void forget();
+
+  // Uploads the tables when `version` differs from the last upload.
+  bool upload_tables(const fog::FogTable& airlight, const fog::FogTable& surface, uint64_t version, std::string* error);
+  // The fog pass and the glows into the bound framebuffer (state restored).
+  bool draw(const Renderer& renderer, const PassInputs& in, const FogDrawInputs& fog, std::string* error);
+  // The host's light texture: per light 4 RGBA32F texels (see atmo_fog_lights.glsl), positions relative to
+  // the eye in the view's world axes; `world_from_enu` rotates the eye's ENU into them. range_m per light.
+  bool upload_host_lights(const abi::FogFrame& frame, const glm::dmat3& world_from_enu,
+                          const std::vector<float>& range_m, std::string* error);
+  GLuint surface_table() const { return surface_table_; }
+  GLuint light_texture() const { return light_texture_; }
+  const FogDrawStats& last_stats() const { return stats_; }
+
+ private:
+  bool build_programs(std::string* error);
+
+  GLuint medium_program_ = 0, glow_program_ = 0;
+  GLuint airlight_table_ = 0, surface_table_ = 0, light_texture_ = 0;
+  GLuint vao_ = 0, instance_buffer_ = 0;
+  GLuint linear_sampler_ = 0, nearest_sampler_ = 0;
+  uint64_t tables_version_ = 0;
+  float airlight_size_ = 0.0f;
+  PassUniforms medium_pass_, glow_pass_;
+  GLint medium_fog_ = -1, medium_ambient_ = -1, medium_fluence_ = -1, medium_flux_ = -1;
+  GLint glow_table_ = -1, glow_table_size_ = -1, glow_top_ = -1, glow_min_sin_ = -1;
+  std::vector<float> instances_;
+  FogDrawStats stats_;
+};
+
+}  // namespace atmo::gl

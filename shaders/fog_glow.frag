@@ -1,0 +1,31 @@
+// The glow of one light in the fog: single scattering along the view ray up
+// to the host's geometry (atmo_fog_airlight, the stable form), added.
+#include "atmosphere/pass_common.glsl"
+#define ATMO_FOG_NO_UNIFORMS
+#include "../host_sdk/include/atmo/atmo_fog_lights.glsl"
+
+uniform sampler2D u_fog_airlight;   // the airlight table (R32F)
+uniform float u_fog_airlight_size;
+uniform float u_fog_top;            // fog top above the eye, m (ATMO_FOG_FAR: none)
+uniform float u_min_sin;            // half a pixel's angle: the 1/gamma core averaged over a pixel
+
+flat in vec4 v_light;
+flat in vec4 v_intensity;
+flat in vec4 v_axis;
+out vec4 out_color;
+
+void main() {
+  vec2 ndc = ndc_xy();
+  // Without a host depth texture every pixel is open sky (w < 0).
+  vec4 p = u_has_depth != 0 ? view_point_from_depth(u_view_from_clip, ndc, host_depth(), u_depth_convention,
+                                                     u_log_far_m, u_log_coefficient)
+                            : vec4(0.0, 0.0, 0.0, -1.0);
+  vec3 ray = p.w < 0.0 ? view_ray_from_ndc(u_view_from_clip, ndc, u_depth_convention) : p.xyz;
+  vec3 dir = normalize(u_enu_from_view * ray);
+  float d_vp = p.w < 0.0 ? ATMO_FOG_FAR : length(p.xyz);
+  // In-scattering stops where the ray leaves the fog (eye inside it).
+  if (u_fog_top < ATMO_FOG_FAR && u_fog_top > 0.0 && dir.z > 0.0) d_vp = min(d_vp, u_fog_top / dir.z);
+  float la = atmo_fog_glow(u_fog_airlight, u_fog_airlight_size, v_light.w, v_light.xyz, dir, v_axis.xyz,
+                           v_intensity.w, v_axis.w, d_vp, u_min_sin);
+  out_color = vec4(encode_output(v_intensity.rgb * la), 0.0);
+}

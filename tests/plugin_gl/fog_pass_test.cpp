@@ -1,0 +1,503 @@
+// Fog and point lights through the ABI: set_fog / set_lights validation (each
+// bad field named, nothing changed), no fog or no light -> no cost, the glow
+// pass and the host include against their C++ twin (the same GLSL text
+// compiled on the CPU, core/fog/fog_twin.h), and finite, non-negative output
+// where the model is fragile (a light at the eye, very thin and very dense
+// fog, the eye above the fog top, lights far away).
+#include <glad/gl.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "atmo_support/image.h"
+#include "atmo_support/image_metrics.h"
+#include "core/fog/fog_twin.h"
+#include "host_shader.h"
+#include "plugin_gl_fixture.h"
+
+namespace {
+
+using namespace plugin_gl;
+namespace twin = atmo::fog::twin;
+
+constexpr double kEyeHeightM = 2.0;
+constexpr double kNightUtc = 1.72e9 + 12 * 3600.0;  // 2024-07-03 21:46 UTC: the Sun well below Innsbruck's horizon
+
+AtmoFogState fog_of(double visibility_m, uint32_t scattering = ATMO_FOG_SCATTERING_SINGLE) {
+  AtmoFogState s = atmo::make<AtmoFogState>(ATMO_TYPE_FOG_STATE);
+  s.visibility_m = visibility_m;
+  s.scattering = scattering;
+  return s;
+}
+
+AtmoLightPoint omni(double east, double north, double up, double cd) {
+  AtmoLightPoint p{};
+  p.position_m[0] = east;
+  p.position_m[1] = north;
+  p.position_m[2] = up;
+  p.intensity_cd = cd;
+  p.color[0] = p.color[1] = p.color[2] = 1.0;
+  return p;
+}
+
+// Lights in the ENU frame at Innsbruck, height 0 (the eye is kEyeHeightM above its origin).
+AtmoLightsState lights_of(const std::vector<AtmoLightPoint>& lights, double threshold = 0.0) {
+  AtmoLightsState s = atmo::make<AtmoLightsState>(ATMO_TYPE_LIGHTS_STATE);
+  s.world_frame = ATMO_WORLD_ENU;
+  s.light_size = sizeof(AtmoLightPoint);
+  s.world_origin_geodetic[0] = 47.26;
+  s.world_origin_geodetic[1] = 11.35;
+  s.lights = lights.empty() ? nullptr : lights.data();
+  s.light_count = static_cast<uint32_t>(lights.size());
+  s.glow_threshold_cd_m2 = threshold;
+  return s;
+}
+
+const glm::dmat4 kProjection = glm::perspective(glm::radians(60.0), double(kWidth) / kHeight, 1.0, 1e5);
+
+void set_night_view(Fixture& f, double height_m, double heading_deg, double pitch_deg) {
+  auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+  frame.utc_posix_s = kNightUtc;
+  f.context->set_frame(frame);
+  f.view->set(innsbruck_view(height_m, heading_deg, pitch_deg, kProjection));
+}
+
+// The LIGHT_GLOWS pass over black; returns its result.
+AtmoResult draw_glows(Fixture& f, atmo::support::Image* out) {
+  f.target->bind();
+  glClearColor(0, 0, 0, 0);
+  glClear(GL_COLOR_BUFFER_BIT);
+  const AtmoResult r = f.view->render(ATMO_PASS_LIGHT_GLOWS);
+  glFinish();
+  *out = f.target->read_color();
+  return r;
+}
+
+// The unit ENU direction through pixel (x, y) (row 0 = top) of a view from innsbruck_view.
+glm::dvec3 pixel_direction(double heading_deg, double pitch_deg, int x, int y) {
+  const glm::dvec2 ndc((x + 0.5) / kWidth * 2.0 - 1.0, 1.0 - (y + 0.5) / kHeight * 2.0);
+  const glm::dvec4 v = glm::inverse(kProjection) * glm::dvec4(ndc, 1.0, 1.0);
+  const glm::dmat3 world_from_view = glm::inverse(glm::dmat3(look(heading_deg, pitch_deg)));
+  return glm::normalize(world_from_view * (glm::dvec3(v) / v.w));
+}
+
+AtmoResult raw_set_fog(Fixture& f, const AtmoFogState* s) { return f.plugin->api().set_fog(f.context->handle(), s); }
+AtmoResult raw_set_lights(Fixture& f, const AtmoLightsState* s) {
+  return f.plugin->api().set_lights(f.context->handle(), s);
+}
+
+TEST(FogPass, NoFogOrNoLightsCostNothing) {
+  Fixture f;
+  set_night_view(f, kEyeHeightM, 0.0, 0.0);
+  atmo::support::Image img;
+  // No fog: nothing to draw, with or without lights; no host lighting either.
+  EXPECT_EQ(draw_glows(f, &img), ATMO_STATUS_NOTHING_TO_DRAW);
+  const std::vector<AtmoLightPoint> one = {omni(0.0, 100.0, 5.0, 1e4)};
+  f.context->set_lights(lights_of(one));
+  EXPECT_EQ(draw_glows(f, &img), ATMO_STATUS_NOTHING_TO_DRAW);
+  EXPECT_EQ(atmo::support::count_nonfinite(img), 0u);
+  AtmoFogLighting fl = atmo::make<AtmoFogLighting>(ATMO_TYPE_FOG_LIGHTING);
+  EXPECT_EQ(f.plugin->api().get_fog_lighting(f.view->handle(), &fl), ATMO_STATUS_NOTHING_TO_DRAW);
+  EXPECT_EQ(fl.light_count, 0u);
+  // Fog without lights: the fog is drawn, but the host has no lights to shade with.
+  f.context->set_lights(lights_of({}));
+  f.context->set_fog(fog_of(200.0));
+  EXPECT_EQ(draw_glows(f, &img), ATMO_SUCCESS);
+  EXPECT_EQ(f.plugin->api().get_fog_lighting(f.view->handle(), &fl), ATMO_STATUS_NOTHING_TO_DRAW);
+  EXPECT_EQ(fl.light_count, 0u);
+  // Fog removed again (NULL): nothing to draw.
+  EXPECT_EQ(raw_set_fog(f, nullptr), ATMO_SUCCESS);
+  EXPECT_EQ(draw_glows(f, &img), ATMO_STATUS_NOTHING_TO_DRAW);
+}
+
+TEST(FogPass, InvalidStatesAreRejectedWithTheFieldNamed) {
+  Fixture f;
+  set_night_view(f, kEyeHeightM, 0.0, 0.0);
+  struct FogCase {
+    const char* what;
+    AtmoFogState s;
+    AtmoResult code;
+    const char* message;
+  };
+  std::vector<FogCase> fogs;
+  AtmoFogState s = fog_of(200.0);
+  s.visibility_m = std::nan("");
+  fogs.push_back({"NaN visibility", s, ATMO_ERROR_NON_FINITE_VALUE, "visibility_m is nan"});
+  s = fog_of(200.0);
+  s.visibility_m = 5.0;
+  fogs.push_back({"visibility too short", s, ATMO_ERROR_OUT_OF_RANGE, "visibility_m = 5"});
+  s = fog_of(0.0);
+  s.extinction_per_m = -0.01;
+  fogs.push_back({"negative extinction", s, ATMO_ERROR_OUT_OF_RANGE, "extinction_per_m = -0.01"});
+  s = fog_of(200.0);
+  s.phase_asymmetry = 0.99;
+  fogs.push_back({"g out of range", s, ATMO_ERROR_OUT_OF_RANGE, "phase_asymmetry = 0.99"});
+  s = fog_of(200.0);
+  s.single_scattering_albedo = 1.5;
+  fogs.push_back({"albedo above 1", s, ATMO_ERROR_OUT_OF_RANGE, "single_scattering_albedo = 1.5"});
+  s = fog_of(200.0);
+  s.scattering = 7;
+  fogs.push_back({"bad scattering", s, ATMO_ERROR_INVALID_ARGUMENT, "scattering = 7"});
+  s = fog_of(200.0);
+  s.airlight_table_size = 4;
+  fogs.push_back({"table too small", s, ATMO_ERROR_OUT_OF_RANGE, "airlight_table_size = 4"});
+  s = fog_of(200.0);
+  s.top_height_m = INFINITY;
+  fogs.push_back({"infinite top", s, ATMO_ERROR_NON_FINITE_VALUE, "top_height_m is inf"});
+  s = fog_of(200.0);
+  s.header.struct_size = 16;
+  fogs.push_back({"undersized struct", s, ATMO_ERROR_STRUCT_TOO_SMALL, "struct_size is 16"});
+  s = fog_of(200.0);
+  s.header.type = ATMO_TYPE_LIGHTS_STATE;
+  fogs.push_back({"wrong type", s, ATMO_ERROR_WRONG_STRUCT_TYPE, "AtmoFogState"});
+  for (const FogCase& c : fogs) {
+    EXPECT_EQ(raw_set_fog(f, &c.s), c.code) << c.what;
+    EXPECT_NE(f.context->last_error().find(c.message), std::string::npos) << c.what << ": " << f.context->last_error();
+  }
+  atmo::support::Image img;
+  EXPECT_EQ(draw_glows(f, &img), ATMO_STATUS_NOTHING_TO_DRAW) << "a rejected set_fog changed the fog";
+
+  // Lights, with fog on so that a wrongly accepted light would show.
+  f.context->set_fog(fog_of(200.0));
+  struct LightCase {
+    const char* what;
+    std::vector<AtmoLightPoint> lights;
+    AtmoLightsState s;
+    AtmoResult code;
+    const char* message;
+  };
+  const AtmoLightPoint good = omni(0.0, 100.0, 5.0, 1e4);
+  std::vector<LightCase> cases;
+  auto add = [&](const char* what, AtmoLightPoint p, AtmoResult code, const char* message) {
+    cases.push_back({what, {good, p}, {}, code, message});
+  };
+  AtmoLightPoint p = good;
+  p.position_m[1] = std::nan("");
+  add("NaN position", p, ATMO_ERROR_NON_FINITE_VALUE, "lights[1]");
+  p = good;
+  p.position_m[0] = 3e9;
+  add("position beyond 1e9 m", p, ATMO_ERROR_OUT_OF_RANGE, "lights[1].position_m[0] = 3e+09");
+  p = good;
+  p.intensity_cd = -1.0;
+  add("negative intensity", p, ATMO_ERROR_OUT_OF_RANGE, "lights[1].intensity_cd = -1");
+  p = good;
+  p.color[2] = 100.0;
+  add("colour too large", p, ATMO_ERROR_OUT_OF_RANGE, "lights[1].color[2] = 100");
+  p = good;
+  p.cone_inner_rad = 0.5;
+  p.cone_outer_rad = 0.2;
+  p.direction[1] = 1.0;
+  add("inner beyond outer", p, ATMO_ERROR_OUT_OF_RANGE, "lights[1].cone");
+  p = good;
+  p.cone_inner_rad = 0.1;
+  p.cone_outer_rad = 0.2;
+  add("zero axis", p, ATMO_ERROR_INVALID_ARGUMENT, "lights[1].direction is the zero vector");
+  for (LightCase& c : cases) c.s = lights_of(c.lights);
+  {
+    LightCase c{"undersized light_size", {good}, {}, ATMO_ERROR_STRUCT_TOO_SMALL, "light_size is 64"};
+    c.s = lights_of(c.lights);
+    c.s.light_size = 64;
+    cases.push_back(c);
+    LightCase n{"NULL array", {}, {}, ATMO_ERROR_INVALID_ARGUMENT, "lights is NULL with light_count 3"};
+    n.s = lights_of({});
+    n.s.light_count = 3;
+    cases.push_back(n);
+    LightCase m{"too many", {good}, {}, ATMO_ERROR_OUT_OF_RANGE, "light_count = 20000"};
+    m.s = lights_of(m.lights);
+    m.s.light_count = 20000;  // rejected before the array is read
+    cases.push_back(m);
+    LightCase t{"NaN threshold", {good}, {}, ATMO_ERROR_NON_FINITE_VALUE, "glow_threshold_cd_m2 = nan"};
+    t.s = lights_of(t.lights, std::nan(""));
+    cases.push_back(t);
+  }
+  for (LightCase& c : cases) {
+    c.s.lights = c.lights.empty() ? nullptr : c.lights.data();
+    EXPECT_EQ(raw_set_lights(f, &c.s), c.code) << c.what;
+    EXPECT_NE(f.context->last_error().find(c.message), std::string::npos) << c.what << ": " << f.context->last_error();
+  }
+  AtmoFogLighting fl = atmo::make<AtmoFogLighting>(ATMO_TYPE_FOG_LIGHTING);
+  EXPECT_EQ(f.plugin->api().get_fog_lighting(f.view->handle(), &fl), ATMO_STATUS_NOTHING_TO_DRAW)
+      << "a rejected set_lights changed the lights";
+
+  // A larger light struct (a newer host): light_size strides over the tail.
+  struct Grown {
+    AtmoLightPoint point;
+    double future[4];
+  };
+  std::vector<Grown> grown(2);
+  grown[0].point = good;
+  grown[1].point = omni(10.0, 120.0, 5.0, 1e4);
+  for (Grown& g : grown)
+    for (double& v : g.future) v = std::nan("");  // never read
+  AtmoLightsState ls = lights_of({});
+  ls.lights = &grown[0].point;
+  ls.light_count = 2;
+  ls.light_size = sizeof(Grown);
+  EXPECT_EQ(raw_set_lights(f, &ls), ATMO_SUCCESS) << f.context->last_error();
+  EXPECT_EQ(f.plugin->api().get_fog_lighting(f.view->handle(), &fl), ATMO_SUCCESS);
+  EXPECT_EQ(fl.light_count, 2u);
+}
+
+TEST(FogPass, CallsOutOfOrderAreRefused) {
+  Fixture f;
+  f.context->set_fog(fog_of(200.0));
+  const std::vector<AtmoLightPoint> one = {omni(0.0, 100.0, 5.0, 1e4)};
+  f.context->set_lights(lights_of(one));
+  AtmoFogLighting fl = atmo::make<AtmoFogLighting>(ATMO_TYPE_FOG_LIGHTING);
+  const AtmoPluginApi& api = f.plugin->api();
+  EXPECT_EQ(api.get_fog_lighting(f.view->handle(), &fl), ATMO_ERROR_CALL_OUT_OF_ORDER);
+  EXPECT_NE(f.context->last_error().find("set_frame has not been called"), std::string::npos) << f.context->last_error();
+  auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+  frame.utc_posix_s = kNightUtc;
+  f.context->set_frame(frame);
+  EXPECT_EQ(api.get_fog_lighting(f.view->handle(), &fl), ATMO_ERROR_CALL_OUT_OF_ORDER);
+  EXPECT_NE(f.context->last_error().find("set_view has not been called"), std::string::npos) << f.context->last_error();
+  EXPECT_EQ(api.get_fog_lighting(f.view->handle(), nullptr), ATMO_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(api.get_fog_lighting(nullptr, &fl), ATMO_ERROR_INVALID_HANDLE);
+  EXPECT_EQ(api.set_fog(nullptr, nullptr), ATMO_ERROR_INVALID_HANDLE);
+  EXPECT_EQ(api.set_lights(nullptr, nullptr), ATMO_ERROR_INVALID_HANDLE);
+  AtmoFogLighting small = fl;
+  small.header.struct_size = 8;
+  f.view->set(innsbruck_view(kEyeHeightM, 0.0, 0.0, kProjection));
+  EXPECT_EQ(api.get_fog_lighting(f.view->handle(), &small), ATMO_ERROR_STRUCT_TOO_SMALL);
+  EXPECT_EQ(api.get_fog_lighting(f.view->handle(), &fl), ATMO_SUCCESS);
+}
+
+// The glow pass against the twin: the image with a light minus the image
+// without it (single scattering: the fog's own light is the same in both) is
+// the light's glow, pixel by pixel, as atmo_fog_glow evaluates it on the CPU.
+TEST(FogPass, GlowMatchesItsTwin) {
+  Fixture f;
+  const double heading = 10.0, pitch = 3.0;
+  set_night_view(f, kEyeHeightM, heading, pitch);
+  const double visibility = 300.0, albedo = 0.999, g = 0.85;
+  f.context->set_fog(fog_of(visibility));
+  atmo::support::Image fog_only, lit;
+  ASSERT_EQ(draw_glows(f, &fog_only), ATMO_SUCCESS);
+  // An omni light and a beamed one (runway light: towards the eye, 3 degrees up), off the image centre.
+  std::vector<AtmoLightPoint> lights = {omni(30.0, 250.0, 8.0, 2e4), omni(-20.0, 400.0, 1.0, 2e4)};
+  lights[1].direction[1] = -1.0;
+  lights[1].direction[2] = std::tan(glm::radians(3.0));
+  lights[1].cone_inner_rad = glm::radians(10.0);
+  lights[1].cone_outer_rad = glm::radians(25.0);
+  const double threshold = 1e-3;
+  f.context->set_lights(lights_of(lights, threshold));
+  ASSERT_EQ(draw_glows(f, &lit), ATMO_SUCCESS);
+
+  const atmo::fog::FogTable table = atmo::fog::build_airlight_table(64, g);
+  const double beta = atmo::fog::extinction_from_visibility(visibility);
+  const float min_sin = static_cast<float>(0.5672 * std::tan(glm::radians(30.0)) / kHeight);
+  int compared = 0, bright = 0, missing = 0;
+  double worst = 0.0, sum_glow = 0.0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const glm::vec3 dir(pixel_direction(heading, pitch, x, y));
+      double expected = 0.0;
+      for (const AtmoLightPoint& l : lights) {
+        const glm::vec3 to_light(l.position_m[0], l.position_m[1], l.position_m[2] - kEyeHeightM);
+        const bool cone = l.cone_outer_rad > 0.0;
+        const glm::vec3 axis = cone ? glm::normalize(glm::vec3(l.direction[0], l.direction[1], l.direction[2]))
+                                    : glm::vec3(0.0f, 0.0f, 1.0f);
+        const float ci = cone ? std::cos(float(l.cone_inner_rad)) : -2.0f;
+        const float co = cone ? std::cos(float(l.cone_outer_rad)) : -2.0f;
+        expected += albedo * l.intensity_cd *
+                    twin::atmo_fog_glow(table, 64.0f, float(beta), to_light, dir, axis, ci, co, twin::ATMO_FOG_FAR,
+                                        min_sin);
+      }
+      const double got = atmo::support::luminance(lit.pixel(x, y)) - atmo::support::luminance(fog_only.pixel(x, y));
+      sum_glow += got;
+      if (expected > 2.0 * threshold) {
+        ++bright;
+        if (got <= 0.0) ++missing;  // culled where it is above the threshold
+      }
+      if (expected > 10.0 * threshold) {
+        // Each light's glow is culled where it is below the threshold: up to that much is missing per light.
+        worst = std::max(worst, std::max(std::abs(got - expected) - threshold * lights.size(), 0.0) / expected);
+        ++compared;
+      }
+    }
+  std::printf("glow vs twin: %d pixels above 10x threshold, worst relative difference (beyond the threshold per "
+              "light that culling may drop) %.2e; %d above 2x threshold, "
+              "%d of them culled; summed glow %.3g cd/m^2\n",
+              compared, worst, bright, missing, sum_glow);
+  EXPECT_GT(compared, 100);
+  EXPECT_LT(worst, 0.01);
+  EXPECT_EQ(missing, 0);
+}
+
+// A host surface shader that includes atmo_fog_lights.glsl: each pixel is a
+// point of the ground plane 2 m below the eye, on a grid 2 m apart.
+const char* kVertex =
+    "#version 330 core\nvoid main(){vec2 p=vec2((gl_VertexID<<1)&2,gl_VertexID&2);"
+    "gl_Position=vec4(p*2.0-1.0,0.5,1.0);}\n";
+const char* kFragmentMain = R"(
+uniform vec3 kd;
+uniform vec3 ks;
+uniform float exponent;
+out vec4 colour;
+void main() {
+  vec3 p = vec3((gl_FragCoord.x - 48.0) * 2.0, gl_FragCoord.y * 2.0 + 40.0, -2.0);
+  colour = vec4(atmo_fog_lights_surface(p, vec3(0.0, 0.0, 1.0), kd, ks, exponent), 1.0);
+}
+)";
+
+// atmo_fog_lights_surface's loop on the CPU with the twin's terms, over the
+// light texture the plugin filled (read back, so its layout is checked too).
+glm::vec3 surface_on_cpu(const AtmoFogLighting& fl, const atmo::fog::FogTable& table, const std::vector<float>& texels,
+                         glm::vec3 p, glm::vec3 kd, glm::vec3 ks, float exponent) {
+  const glm::vec3 normal(0.0f, 0.0f, 1.0f), up(fl.up_world[0], fl.up_world[1], fl.up_world[2]);
+  const glm::vec3 to_eye = glm::normalize(-p);
+  const glm::vec3 mirror = glm::reflect(-to_eye, normal);
+  const glm::vec4 diffusion(fl.diffusion[0], fl.diffusion[1], fl.diffusion[2], fl.diffusion[3]);
+  const glm::vec2 size(fl.surface_table_size[0], fl.surface_table_size[1]);
+  glm::vec3 sum(0.0f);
+  for (uint32_t i = 0; i < fl.light_count; ++i) {
+    auto texel = [&](int c) { return glm::make_vec4(&texels[(size_t(i) * 4 + c) * 4]); };
+    const glm::vec4 t0 = texel(0), t1 = texel(1), t2 = texel(2);
+    const glm::vec3 to_light = glm::vec3(t0) - p;
+    const float d = glm::length(to_light);
+    if (d > t0.w) continue;
+    const glm::vec3 l = to_light / std::max(d, 1e-3f);
+    const float cone = twin::atmo_fog_cone(glm::vec3(t2), t1.w, t2.w, -l);
+    if (cone <= 0.0f) continue;
+    const float beta = float(fl.medium[0]) * twin::atmo_fog_inside_fraction(glm::dot(p, up), glm::dot(glm::vec3(t0), up),
+                                                                           float(fl.medium[2]));
+    const glm::vec2 terms = twin::atmo_fog_surface_terms(table, size, beta, float(fl.medium[1]), diffusion, d, beta * d,
+                                                         glm::dot(normal, l), glm::dot(mirror, l), exponent);
+    sum += glm::vec3(t1) * cone * (kd * terms.x + ks * terms.y);
+  }
+  return sum;
+}
+
+TEST(FogHostInclude, SurfaceShaderMatchesItsTwin) {
+  Fixture f;
+  set_night_view(f, kEyeHeightM, 0.0, 0.0);
+  f.context->set_fog(fog_of(250.0, ATMO_FOG_SCATTERING_AUTO));
+  std::vector<AtmoLightPoint> lights = {omni(-20.0, 80.0, 0.5, 5e3), omni(25.0, 130.0, 6.0, 2e4),
+                                        omni(0.0, 60.0, 0.3, 3e4)};
+  lights[2].direction[1] = -1.0;
+  lights[2].cone_inner_rad = glm::radians(10.0);
+  lights[2].cone_outer_rad = glm::radians(40.0);
+  f.context->set_lights(lights_of(lights));
+  AtmoFogLighting fl = atmo::make<AtmoFogLighting>(ATMO_TYPE_FOG_LIGHTING);
+  ASSERT_EQ(f.plugin->api().get_fog_lighting(f.view->handle(), &fl), ATMO_SUCCESS);
+  ASSERT_EQ(fl.light_count, 3u);
+  EXPECT_GT(fl.diffusion[3], 0.0) << "AUTO scattering turns the diffusion term on";
+
+  const std::string include = read_text(std::string(ATMO_SOURCE_DIR) + "/host_sdk/include/atmo/atmo_fog_lights.glsl");
+  ASSERT_FALSE(include.empty());
+  GLuint program = glCreateProgram();
+  GLuint vs = compile(GL_VERTEX_SHADER, kVertex);
+  GLuint fs = compile(GL_FRAGMENT_SHADER, "#version 330 core\n" + include + kFragmentMain);
+  glAttachShader(program, vs);
+  glAttachShader(program, fs);
+  glLinkProgram(program);
+  GLint linked = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &linked);
+  ASSERT_TRUE(linked);
+  glUseProgram(program);
+  const glm::vec3 kd(0.3f / M_PI), ks(0.2f);
+  const float exponent = 24.0f;
+  glUniform3fv(glGetUniformLocation(program, "kd"), 1, &kd[0]);
+  glUniform3fv(glGetUniformLocation(program, "ks"), 1, &ks[0]);
+  glUniform1f(glGetUniformLocation(program, "exponent"), exponent);
+  glUniform4f(glGetUniformLocation(program, "atmo_fog_medium"), fl.medium[0], fl.medium[1], fl.medium[2], fl.medium[3]);
+  glUniform4f(glGetUniformLocation(program, "atmo_fog_diffusion"), fl.diffusion[0], fl.diffusion[1], fl.diffusion[2],
+              fl.diffusion[3]);
+  glUniform3f(glGetUniformLocation(program, "atmo_fog_up"), fl.up_world[0], fl.up_world[1], fl.up_world[2]);
+  glUniform2f(glGetUniformLocation(program, "atmo_fog_surface_table_size"), fl.surface_table_size[0],
+              fl.surface_table_size[1]);
+  glUniform1i(glGetUniformLocation(program, "atmo_fog_light_count"), int(fl.light_count));
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, fl.surface_table);
+  glUniform1i(glGetUniformLocation(program, "atmo_fog_surface_table"), 0);
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D, fl.light_texture);
+  glUniform1i(glGetUniformLocation(program, "atmo_fog_light_texture"), 1);
+  std::vector<float> texels(size_t(fl.light_count) * 4 * 4);
+  glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, texels.data());
+  glActiveTexture(GL_TEXTURE0);
+
+  f.target->bind();
+  glViewport(0, 0, kWidth, kHeight);
+  glDisable(GL_BLEND);
+  glDisable(GL_DEPTH_TEST);
+  GLuint vao = 0;
+  glGenVertexArrays(1, &vao);
+  glBindVertexArray(vao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glFinish();
+  const atmo::support::Image img = f.target->read_color();
+  glBindVertexArray(0);
+  glDeleteVertexArrays(1, &vao);
+  glUseProgram(0);
+  glDeleteProgram(program);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+
+  const atmo::fog::FogTable table = atmo::fog::build_surface_table(32, 32, 0.85);
+  ASSERT_EQ(table.width, int(fl.surface_table_size[0]));
+  double worst = 0.0, peak = 0.0;
+  int lit = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const int row = kHeight - 1 - y;  // gl_FragCoord.y of this image row
+      const glm::vec3 p((x + 0.5f - 48.0f) * 2.0f, (row + 0.5f) * 2.0f + 40.0f, -2.0f);
+      const glm::vec3 want = surface_on_cpu(fl, table, texels, p, kd, ks, exponent);
+      const float* got = img.pixel(x, y);
+      peak = std::max(peak, double(want.g));
+      if (want.g > 1e-3f) ++lit;
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, double(std::abs(got[c] - want[c]) / std::max(want[c], 1e-3f)));
+    }
+  std::printf("host include vs twin: %d of %d pixels above 1e-3 cd/m^2, peak %.3g cd/m^2, worst relative difference "
+              "%.2e\n", lit, kWidth * kHeight, peak, worst);
+  EXPECT_GT(lit, kWidth * kHeight / 4);
+  EXPECT_LT(worst, 0.01);
+}
+
+// Where the model is fragile the pass stays finite and non-negative.
+TEST(FogPass, FiniteWhereTheModelIsFragile) {
+  Fixture f;
+  struct Case {
+    const char* what;
+    double visibility_m, extinction_per_m, top_m, eye_height_m, pitch_deg;
+    AtmoLightPoint light;
+  };
+  const Case cases[] = {
+      {"light at the eye", 200.0, 0.0, 0.0, kEyeHeightM, 0.0, omni(0.0, 0.0, kEyeHeightM, 1e5)},
+      {"light on the view axis", 200.0, 0.0, 0.0, kEyeHeightM, 0.0, omni(0.0, 300.0, kEyeHeightM, 1e5)},
+      {"densest fog", 0.0, 1.0, 0.0, kEyeHeightM, 0.0, omni(0.0, 50.0, 3.0, 1e8)},
+      {"thinnest fog", 100000.0, 0.0, 0.0, kEyeHeightM, 0.0, omni(0.0, 50.0, 3.0, 1e8)},
+      {"light 1000 km away", 200.0, 0.0, 0.0, kEyeHeightM, 0.0, omni(0.0, 1e6, 3.0, 1e8)},
+      {"eye above the fog top", 500.0, 0.0, 100.0, 800.0, -30.0, omni(0.0, 600.0, 3.0, 1e5)},
+      {"top just at the eye", 500.0, 0.0, kEyeHeightM, kEyeHeightM, 10.0, omni(0.0, 100.0, 3.0, 1e5)},
+  };
+  for (const Case& c : cases) {
+    for (uint32_t scattering : {uint32_t(ATMO_FOG_SCATTERING_SINGLE), uint32_t(ATMO_FOG_SCATTERING_AUTO)}) {
+      AtmoFogState s = fog_of(c.visibility_m, scattering);
+      s.extinction_per_m = c.extinction_per_m;
+      s.top_height_m = c.top_m;
+      f.context->set_fog(s);
+      const std::vector<AtmoLightPoint> one = {c.light};
+      f.context->set_lights(lights_of(one));
+      set_night_view(f, c.eye_height_m, 0.0, c.pitch_deg);
+      atmo::support::Image img;
+      EXPECT_EQ(draw_glows(f, &img), ATMO_SUCCESS) << c.what;
+      size_t negative = 0;
+      for (float v : img.rgba) negative += v < 0.0f;
+      EXPECT_EQ(atmo::support::count_nonfinite(img), 0u) << c.what << " scattering " << scattering;
+      EXPECT_EQ(negative, 0u) << c.what << " scattering " << scattering;
+      AtmoFogLighting fl = atmo::make<AtmoFogLighting>(ATMO_TYPE_FOG_LIGHTING);
+      EXPECT_EQ(f.plugin->api().get_fog_lighting(f.view->handle(), &fl), ATMO_SUCCESS) << c.what;
+      for (double v : fl.diffusion) EXPECT_TRUE(std::isfinite(v)) << c.what;
+    }
+  }
+}
+
+}  // namespace
