@@ -272,10 +272,20 @@ TEST(FogPass, CallsOutOfOrderAreRefused) {
 // The glow pass against the twin: the image with a light minus the image
 // without it (single scattering: the fog's own light is the same in both) is
 // the light's glow, pixel by pixel, as atmo_fog_glow evaluates it on the CPU.
-TEST(FogPass, GlowMatchesItsTwin) {
+// geometry_depth_m > 0: host geometry covers the lower half of the image at that view depth (a plane
+// facing the camera), which must stop each glow's in-scattering where the ray meets it.
+void check_glow_against_twin(double geometry_depth_m) {
   Fixture f;
   const double heading = 10.0, pitch = 3.0;
   set_night_view(f, kEyeHeightM, heading, pitch);
+  GLuint depth_texture = 0;
+  if (geometry_depth_m > 0.0) {
+    const glm::dvec4 clip = kProjection * glm::dvec4(0.0, 0.0, -geometry_depth_m, 1.0);
+    depth_texture = atmo::support::make_split_depth_texture(kWidth, kHeight, float(0.5 * clip.z / clip.w + 0.5));
+    AtmoViewState vs = innsbruck_view(kEyeHeightM, heading, pitch, kProjection);
+    vs.depth_texture = depth_texture;
+    f.view->set(vs);
+  }
   const double visibility = 300.0, albedo = 0.999, g = 0.85;
   f.context->set_fog(fog_of(visibility));
   atmo::support::Image fog_only, lit;
@@ -294,11 +304,18 @@ TEST(FogPass, GlowMatchesItsTwin) {
   const double beta = atmo::fog::extinction_from_visibility(visibility);
   const float min_sin = static_cast<float>(0.5672 * std::tan(glm::radians(30.0)) / kHeight);
   int compared = 0, bright = 0, missing = 0;
-  double worst = 0.0, sum_glow = 0.0;
+  double worst = 0.0, sum_glow = 0.0, sum_occluded = 0.0, sum_unoccluded = 0.0;
   for (int y = 0; y < kHeight; ++y)
     for (int x = 0; x < kWidth; ++x) {
       const glm::vec3 dir(pixel_direction(heading, pitch, x, y));
-      double expected = 0.0;
+      float d_vp = twin::ATMO_FOG_FAR;
+      if (geometry_depth_m > 0.0 && y >= kHeight / 2) {  // image row 0 is the top; the texture's row 0 the bottom
+        const glm::dvec2 ndc((x + 0.5) / kWidth * 2.0 - 1.0, 1.0 - (y + 0.5) / kHeight * 2.0);
+        const glm::dvec4 v = glm::inverse(kProjection) * glm::dvec4(ndc, 1.0, 1.0);
+        const glm::dvec3 ray = glm::dvec3(v) / v.w;
+        d_vp = static_cast<float>(geometry_depth_m * glm::length(ray) / -ray.z);
+      }
+      double expected = 0.0, unoccluded = 0.0;
       for (const AtmoLightPoint& l : lights) {
         const glm::vec3 to_light(l.position_m[0], l.position_m[1], l.position_m[2] - kEyeHeightM);
         const bool cone = l.cone_outer_rad > 0.0;
@@ -307,8 +324,14 @@ TEST(FogPass, GlowMatchesItsTwin) {
         const float ci = cone ? std::cos(float(l.cone_inner_rad)) : -2.0f;
         const float co = cone ? std::cos(float(l.cone_outer_rad)) : -2.0f;
         expected += albedo * l.intensity_cd *
-                    twin::atmo_fog_glow(table, 64.0f, float(beta), to_light, dir, axis, ci, co, twin::ATMO_FOG_FAR,
-                                        min_sin);
+                    twin::atmo_fog_glow(table, 64.0f, float(beta), to_light, dir, axis, ci, co, d_vp, min_sin);
+        unoccluded += albedo * l.intensity_cd *
+                      twin::atmo_fog_glow(table, 64.0f, float(beta), to_light, dir, axis, ci, co, twin::ATMO_FOG_FAR,
+                                          min_sin);
+      }
+      if (d_vp < twin::ATMO_FOG_FAR) {
+        sum_occluded += expected;
+        sum_unoccluded += unoccluded;
       }
       const double got = atmo::support::luminance(lit.pixel(x, y)) - atmo::support::luminance(fog_only.pixel(x, y));
       sum_glow += got;
@@ -329,7 +352,20 @@ TEST(FogPass, GlowMatchesItsTwin) {
   EXPECT_GT(compared, 100);
   EXPECT_LT(worst, 0.01);
   EXPECT_EQ(missing, 0);
+  if (geometry_depth_m > 0.0) {
+    // The geometry must matter here: its half keeps well under half the glow it would have without it.
+    std::printf("behind geometry at %.0f m: the twin's glow is %.3f of the unoccluded one\n", geometry_depth_m,
+                sum_occluded / sum_unoccluded);
+    EXPECT_LT(sum_occluded, 0.5 * sum_unoccluded);
+    glDeleteTextures(1, &depth_texture);
+  }
 }
+
+TEST(FogPass, GlowMatchesItsTwin) { check_glow_against_twin(0.0); }
+
+// Host geometry between the eye and the lights (their glow's near part only) against the twin with the
+// ray's length from the depth: the glow pass reads the host depth.
+TEST(FogPass, GlowIsCutByHostGeometry) { check_glow_against_twin(60.0); }
 
 // A host surface shader that includes atmo_fog_lights.glsl: each pixel is a
 // point of the ground plane 2 m below the eye, on a grid 2 m apart.
