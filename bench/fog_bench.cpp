@@ -537,6 +537,28 @@ World& world() {
   return w;
 }
 
+// Sums over the timed iterations of one pass (`pass(&query_ms, &call_ms)` returns its wall ms), with a
+// trivial pass timed after each one, outside the timing, as the ratio's base.
+struct LoopTotals {
+  double total_ms = 0.0, query_ms = 0.0, call_ms = 0.0, trivial_ms = 0.0;
+};
+template <typename Pass>
+LoopTotals timed_loop(benchmark::State& state, World& w, Pass pass) {
+  LoopTotals t;
+  for (auto _ : state) {
+    double query_ms = 0.0, call_ms = 0.0;
+    const double ms = pass(&query_ms, &call_ms);
+    t.total_ms += ms;
+    t.query_ms += query_ms;
+    t.call_ms += call_ms;
+    state.SetIterationTime(ms * 1e-3);
+    state.PauseTiming();
+    t.trivial_ms += w.trivial_pass_median_ms();
+    state.ResumeTiming();
+  }
+  return t;
+}
+
 void BM_TrivialFullScreenPass(benchmark::State& state) {
   World& w = world();
   double total_ms = 0.0, query_total_ms = 0.0;
@@ -581,18 +603,8 @@ void run_glows(benchmark::State& state, Layout layout) {
     state.SkipWithError(e.what());
     return;
   }
-  double total_ms = 0.0, query_total_ms = 0.0, call_total_ms = 0.0, trivial_total_ms = 0.0;
-  for (auto _ : state) {
-    double query_ms = 0.0, call_ms = 0.0;
-    const double ms = w.glow_pass_ms(&query_ms, &call_ms);
-    total_ms += ms;
-    query_total_ms += query_ms;
-    call_total_ms += call_ms;
-    state.SetIterationTime(ms * 1e-3);
-    state.PauseTiming();
-    trivial_total_ms += w.trivial_pass_median_ms();
-    state.ResumeTiming();
-  }
+  const auto [total_ms, query_total_ms, call_total_ms, trivial_total_ms] =
+      timed_loop(state, w, [&](double* query_ms, double* call_ms) { return w.glow_pass_ms(query_ms, call_ms); });
   const double it = std::max<double>(1.0, double(state.iterations()));
   const double mean_ms = total_ms / it;
   if (n == 0 && layout == kOmni) w.fog_only_ms = mean_ms;
@@ -643,18 +655,8 @@ void run_surface(benchmark::State& state, Layout layout, bool skip_only = false)
     state.SkipWithError(e.what());
     return;
   }
-  double total_ms = 0.0, query_total_ms = 0.0, call_total_ms = 0.0, trivial_total_ms = 0.0;
-  for (auto _ : state) {
-    double query_ms = 0.0, call_ms = 0.0;
-    const double ms = w.surface_pass_ms(&query_ms, &call_ms, nullptr, skip_only);
-    total_ms += ms;
-    query_total_ms += query_ms;
-    call_total_ms += call_ms;
-    state.SetIterationTime(ms * 1e-3);
-    state.PauseTiming();
-    trivial_total_ms += w.trivial_pass_median_ms();
-    state.ResumeTiming();
-  }
+  const auto [total_ms, query_total_ms, call_total_ms, trivial_total_ms] =
+      timed_loop(state, w, [&](double* query_ms, double* call_ms) { return w.surface_pass_ms(query_ms, call_ms, nullptr, skip_only); });
   const double it = std::max<double>(1.0, double(state.iterations()));
   const double mean_ms = total_ms / it, pixels = double(kWidth) * kHeight;
   if (n == 0 && layout == kOmni && !skip_only) w.surface_zero_ms = mean_ms;
