@@ -14,11 +14,10 @@ constexpr GLuint kAirlightUnit = kPassUnitsUsed;  // after the sky passes' units
 constexpr int kUnitsUsed = static_cast<int>(kAirlightUnit) + 1;
 constexpr int kInstanceFloats = 16;  // rect, light, intensity, axis
 
+// Under a GlStateGuard, whose baseline unbinds any host PBO and sets tight unpacking.
 void upload_r32f(GLuint* texture, const fog::FogTable& t) {
   if (!*texture) glGenTextures(1, texture);
   glBindTexture(GL_TEXTURE_2D, *texture);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, t.width, t.height, 0, GL_RED, GL_FLOAT, t.texels.data());
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -195,9 +194,7 @@ bool FogRenderer::upload_host_lights(const abi::FogFrame& frame, const glm::dmat
   GlStateGuard guard(1);
   glActiveTexture(GL_TEXTURE0);
   if (!light_texture_) glGenTextures(1, &light_texture_);
-  glBindTexture(GL_TEXTURE_2D, light_texture_);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  glBindTexture(GL_TEXTURE_2D, light_texture_);  // unpacking: the guard's baseline
   const GLsizei rows = std::max<GLsizei>(1, static_cast<GLsizei>(frame.lights.size()));
   if (texels.empty()) texels.assign(16, 0.0f);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, 4, rows, 0, GL_RGBA, GL_FLOAT, texels.data());
