@@ -23,15 +23,11 @@ octave count; the development / held-out split and the GL pass time are in
 the CSV.
 """
 import argparse
-import csv
 import os
 import subprocess
 import sys
 
-
-def rows(path):
-    with open(path) as f:
-        return list(csv.DictReader(line for line in f if line.strip() and not line.startswith("#")))
+from measurement_csv import rows, run_logged
 
 
 def main():
@@ -49,14 +45,9 @@ def main():
     if not a.no_run:
         cmd = [os.path.join(a.build, "bench", "atmo_clouds_error_cost"), "--csv", a.csv,
                "--lighting-csv", a.lighting_csv] + a.tool_args
-        print(" ".join(cmd), file=sys.stderr)
-        out = subprocess.run(cmd, stdout=subprocess.PIPE, text=True)
-        sys.stdout.write(out.stdout)
-        if a.log:
-            with open(a.log, "w") as f:
-                f.write("$ " + " ".join(cmd) + "\n" + out.stdout)
-        if out.returncode:
-            return out.returncode
+        code = run_logged(cmd, a.log)
+        if code:
+            return code
 
     chart = os.path.join(a.build, "tools", "chart", "atmo-chart")
     main_rows = rows(a.csv)

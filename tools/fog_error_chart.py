@@ -16,16 +16,12 @@ log axis would not separate). Values above --clip (default 1e5 %) are drawn at t
 them).
 """
 import argparse
-import csv
 import os
 import subprocess
 import sys
+
+from measurement_csv import rows, run_logged
 import tempfile
-
-
-def rows(path):
-    with open(path) as f:
-        return list(csv.DictReader(line for line in f if line.strip() and not line.startswith("#")))
 
 
 def fmt(v):
@@ -46,14 +42,9 @@ def main():
 
     if not a.no_run:
         cmd = [os.path.join(a.build, "bench", "atmo_fog_error_chart"), "--csv", a.csv]
-        print(" ".join(cmd), file=sys.stderr)
-        out = subprocess.run(cmd, stdout=subprocess.PIPE, text=True)
-        sys.stdout.write(out.stdout)
-        if a.log:
-            with open(a.log, "w") as f:
-                f.write("$ " + " ".join(cmd) + "\n" + out.stdout)
-        if out.returncode:
-            return out.returncode
+        code = run_logged(cmd, a.log)
+        if code:
+            return code
 
     data = [r for r in rows(a.csv) if f"{float(r['g']):.2f}" == f"{float(a.g):.2f}"]
     if not data:
