@@ -4,9 +4,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "atmo/atmo.hpp"
-#include "core/atmosphere_model.h"
-#include "core/scene.h"
-#include "core/solar_position.h"
+#include "core/atmosphere/atmosphere_model.h"
+#include "core/scene/scene.h"
+#include "core/astro/solar_position.h"
 
 namespace {
 

@@ -29,9 +29,9 @@
 #include "core/astro/observer.h"
 #include "core/astro/star_catalog.h"
 #include "core/astro/time_scales.h"
-#include "core/geodesy.h"
+#include "core/geo/geodesy.h"
 #include "core/night_sky/point_sources.h"
-#include "core/sky_bodies.h"
+#include "core/astro/sky_bodies.h"
 
 namespace {
 

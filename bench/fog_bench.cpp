@@ -612,9 +612,9 @@ void run_glows(benchmark::State& state, Layout layout) {
   int culled = 0, hemisphere = 0, subpixel = 0, unseen = 0;
   const double tan_half = std::tan(glm::radians(kVerticalFovDeg / 2));
   const double pixel_rad = 2.0 * tan_half / kHeight;
-  const double min_sin = 0.5672 * tan_half / kHeight;  // FogDrawInputs::min_sin as plugin/abi/entry.cpp sets it
+  const double min_sin = atmo::fog::glow_min_sin(tan_half, kHeight);  // FogDrawInputs::min_sin as the glow pass sets it
   if (w.view->fog_frame)
-    for (const atmo::abi::FrameLight& l : w.view->fog_frame->lights) {
+    for (const atmo::fog::FrameLight& l : w.view->fog_frame->lights) {
       culled += l.glow_radius_rad <= 0.0f;
       hemisphere += l.glow_radius_rad >= 0.5 * M_PI;
       subpixel += l.glow_radius_rad > 0.0f && l.glow_radius_rad < pixel_rad;

@@ -60,13 +60,13 @@
 #include "atmo_support/offscreen_target.h"
 #include "core/astro/ephemeris.h"
 #include "core/astro/star_catalog.h"
-#include "core/atmosphere_model.h"
-#include "core/geodesy.h"
+#include "core/atmosphere/atmosphere_model.h"
+#include "core/geo/geodesy.h"
 #include "core/night_sky/night_plan.h"
 #include "core/night_sky/night_sky_twin.h"
 #include "core/night_sky/point_sources.h"
-#include "core/sky_bodies.h"
-#include "core/sky_view_table.h"
+#include "core/astro/sky_bodies.h"
+#include "core/sky/sky_view_table.h"
 #include "gl/night_renderer.h"
 #include "gl/renderer.h"
 #include "trivial_pass.h"
@@ -496,8 +496,8 @@ struct NightSkyPassScene {
       in.exposure = kMoonlitExposure;
       in.output_encoding = int(vs.output_encoding);
       in.method = atmo::gl::SkyMethod::kLut;
-      in.lut.sky_view_width = int(kSizes[1].sky_view[0]);  // BM_Lut_Sky/1's table
-      in.lut.sky_view_height = int(kSizes[1].sky_view[1]);
+      in.table_sizes.sky_view_width = int(kSizes[1].sky_view[0]);  // BM_Lut_Sky/1's table
+      in.table_sizes.sky_view_height = int(kSizes[1].sky_view[1]);
     }
     views[0].enu_from_view = glm::mat3(glm::transpose(glm::dmat3(view_from_world)));
     views[0].depth_texture = w.target->depth_texture();

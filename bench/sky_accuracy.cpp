@@ -25,10 +25,10 @@
 #include <vector>
 
 #include "atmo_support/image.h"
-#include "core/analytic_tier.h"
-#include "core/atmosphere_model.h"
-#include "core/preetham.h"
-#include "core/sky_view_table.h"
+#include "core/sky/analytic_tier.h"
+#include "core/atmosphere/atmosphere_model.h"
+#include "core/sky/preetham.h"
+#include "core/sky/sky_view_table.h"
 #include "core/spectral/spectral_atmosphere.h"
 #include "reference.h"
 

@@ -10,8 +10,8 @@
 #include "abi/struct_io.h"
 #include "core/clouds/field_light.h"
 #include "core/clouds/procedural_clouds.h"
-#include "core/scene.h"
-#include "core/shader_twin.h"
+#include "core/scene/scene.h"
+#include "core/atmosphere/shader_twin.h"
 #include "vdb/vdb_io.h"
 
 namespace atmo::abi {
@@ -222,17 +222,11 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
 clouds::CloudLight cloud_light(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene) {
   const core::SkyLighting& sky = view_sky_lighting(ctx, view, scene);
   const twin::AtmosphereParameters& atm = scene.atmosphere;
-  const glm::vec2 lut_size(ctx->lut.width, ctx->lut.height);
   // The light at the clouds' mean height: the transmittance from there (the
   // layers are near the eye's horizon, so the eye's direction serves).
   const double altitude = std::max(1.0, ctx->clouds.origin.height_m + ctx->clouds.mean_centre_height_m);
-  const float r = atm.bottom_radius_m + static_cast<float>(altitude);
-  const glm::vec3 sun_t =
-      twin::transmittance_to_sun(atm, ctx->lut, lut_size, r, static_cast<float>(scene.sun_direction_enu.z));
-  const glm::dvec3 sun_lux = glm::dvec3(atm.sun_illuminance_lux * sun_t);
-  const glm::vec3 moon_t =
-      twin::transmittance_to_sun(atm, ctx->lut, lut_size, r, static_cast<float>(scene.bodies.moon_enu.z));
-  const glm::dvec3 moon_lux = scene.bodies.moon_illuminance_rgb_lux * glm::dvec3(moon_t);
+  const core::BodyIlluminance lit = core::body_illuminance(scene, ctx->transmittance, altitude);
+  const glm::dvec3 sun_lux = lit.sun_lux, moon_lux = lit.moon_lux;
   const bool moon = moon_lux.g > sun_lux.g;
   const glm::dmat3 to_clouds = cloud_enu_from_eye_enu(ctx->clouds, view->eye.ecef_from_enu);
   clouds::CloudLight light;

@@ -18,7 +18,7 @@
 #include "core/clouds/cloud_optics.h"
 #include "core/clouds/cloud_shadow.h"
 #include "core/clouds/impostor_policy.h"
-#include "core/geodesy.h"
+#include "core/geo/geodesy.h"
 
 struct AtmoContext_T;
 struct AtmoView_T;

@@ -4,8 +4,7 @@
 #include <cstring>
 #include <string>
 
-#include "core/fog/fog_twin.h"
-#include "core/geodesy.h"
+#include "abi/world_frame.h"
 
 namespace atmo::abi {
 
@@ -19,21 +18,9 @@ std::string num(double v) {
   return b;
 }
 
-// Mean over the sphere of a cone light's profile (atmo_fog_cone): d(omega) = 2 pi d(cos).
-double mean_cone_profile(double cos_inner, double cos_outer) {
-  const int n = 512;
-  double sum = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const float c = static_cast<float>(-1.0 + 2.0 * (i + 0.5) / n);
-    sum += fog::twin::atmo_fog_cone(glm::vec3(0.0f, 0.0f, 1.0f), static_cast<float>(cos_inner),
-                                    static_cast<float>(cos_outer), glm::vec3(std::sqrt(1.0f - c * c), 0.0f, c));
-  }
-  return sum / n;
-}
-
 }  // namespace
 
-Verdict set_fog_state(const AtmoFogState& s, ContextFog* fog) {
+Verdict set_fog_state(const AtmoFogState& s, fog::FogMedium* fog) {
   const double fields[] = {s.visibility_m, s.extinction_per_m, s.top_height_m, s.phase_asymmetry,
                            s.single_scattering_albedo};
   const char* names[] = {"visibility_m", "extinction_per_m", "top_height_m", "phase_asymmetry",
@@ -66,20 +53,11 @@ Verdict set_fog_state(const AtmoFogState& s, ContextFog* fog) {
   o.top_height_m = s.top_height_m != 0.0 ? s.top_height_m : INFINITY;
   o.multiple_scattering = s.scattering == ATMO_FOG_SCATTERING_AUTO;
   const int size = s.airlight_table_size ? static_cast<int>(s.airlight_table_size) : 64;
-  if (o.extinction_per_m > 0.0 && (o.phase_g != fog->tables_phase_g || size != fog->tables_airlight_size)) {
-    fog->airlight = fog::build_airlight_table(size, o.phase_g);
-    fog->surface = fog::build_surface_table(32, 32, o.phase_g);
-    fog->bound = std::make_unique<fog::GlowBound>(o.phase_g);
-    fog->tables_phase_g = o.phase_g;
-    fog->tables_airlight_size = size;
-    ++fog->version;
-  }
-  fog->optics = o;
-  fog->airlight_table_size = size;
+  fog->apply(o, size);
   return {};
 }
 
-Verdict set_lights_state(const AtmoLightsState& s, ContextLights* out) {
+Verdict set_lights_state(const AtmoLightsState& s, fog::FogLights* out) {
   if (s.world_frame > ATMO_WORLD_ENU)
     return bad(ATMO_ERROR_INVALID_ARGUMENT, "AtmoLightsState.world_frame = " + std::to_string(s.world_frame) +
                                                 " is not an AtmoWorldFrame");
@@ -94,16 +72,15 @@ Verdict set_lights_state(const AtmoLightsState& s, ContextLights* out) {
   if (!std::isfinite(s.glow_threshold_cd_m2) || s.glow_threshold_cd_m2 < 0.0)
     return bad(std::isfinite(s.glow_threshold_cd_m2) ? ATMO_ERROR_OUT_OF_RANGE : ATMO_ERROR_NON_FINITE_VALUE,
                "AtmoLightsState.glow_threshold_cd_m2 = " + num(s.glow_threshold_cd_m2) + " must be >= 0");
-  glm::dmat3 ecef_from_world(1.0);
-  glm::dvec3 origin(0.0);
   if (s.world_frame == ATMO_WORLD_ENU) {
     const double* g = s.world_origin_geodetic;
     if (!std::isfinite(g[0]) || !std::isfinite(g[1]) || !std::isfinite(g[2]) || std::abs(g[0]) > 90.0)
       return bad(ATMO_ERROR_OUT_OF_RANGE, "AtmoLightsState.world_origin_geodetic is not a geodetic position");
-    ecef_from_world = core::ecef_from_enu(g[0], g[1]);
-    origin = core::ecef_from_geodetic({g[0], g[1], g[2]});
   }
-  std::vector<FogLight> lights(s.light_count);
+  const glm::dmat4 ecef_from_world_m = ecef_from_world_frame(s.world_frame, s.world_origin_geodetic);
+  const glm::dmat3 ecef_from_world(ecef_from_world_m);
+  const glm::dvec3 origin(ecef_from_world_m[3]);
+  std::vector<fog::FogLight> lights(s.light_count);
   const auto* bytes = reinterpret_cast<const unsigned char*>(s.lights);
   for (uint32_t i = 0; i < s.light_count; ++i) {
     AtmoLightPoint p;
@@ -122,7 +99,7 @@ Verdict set_lights_state(const AtmoLightsState& s, ContextLights* out) {
       if (p.color[c] < 0.0 || p.color[c] > 16.0)
         return bad(ATMO_ERROR_OUT_OF_RANGE, where + "color[" + std::to_string(c) + "] = " + num(p.color[c]) +
                                                 " is outside [0, 16]");
-    FogLight& l = lights[i];
+    fog::FogLight& l = lights[i];
     l.position_ecef_m = origin + ecef_from_world * glm::dvec3(p.position_m[0], p.position_m[1], p.position_m[2]);
     l.intensity_cd = p.intensity_cd * glm::dvec3(p.color[0], p.color[1], p.color[2]);
     if (p.cone_outer_rad != 0.0) {
@@ -134,85 +111,12 @@ Verdict set_lights_state(const AtmoLightsState& s, ContextLights* out) {
       l.axis_ecef = glm::normalize(ecef_from_world * axis);
       l.cos_inner = std::cos(p.cone_inner_rad);
       l.cos_outer = std::cos(p.cone_outer_rad);
-      l.mean_profile = mean_cone_profile(l.cos_inner, l.cos_outer);
+      l.mean_profile = fog::mean_cone_profile(l.cos_inner, l.cos_outer);
     }
   }
   out->lights = std::move(lights);
   out->glow_threshold_cd_m2 = s.glow_threshold_cd_m2;
   return {};
-}
-
-FogFrame make_fog_frame(const ContextFog& fog, const ContextLights& lights, const core::EyeFrame& eye,
-                        double threshold_cd_m2) {
-  FogFrame f;
-  const fog::FogOptics& o = fog.optics;
-  const double top = std::isfinite(o.top_height_m) ? o.top_height_m - eye.eye.height_m : INFINITY;
-  f.top_above_eye_m = std::isfinite(top) ? static_cast<float>(top) : fog::kNoTop;
-  const glm::dmat3 enu_from_ecef = glm::transpose(eye.ecef_from_enu);
-  // The diffusion term's layer: from the ground, taken as the lowest of the eye and the lights (lights stand
-  // on the ground), to the top (docs/FOG.md).
-  double floor_above_eye = 0.0;
-  for (const FogLight& l : lights.lights)
-    floor_above_eye = std::min(floor_above_eye, (enu_from_ecef * (l.position_ecef_m - eye.eye_ecef_m)).z);
-  const double depth = std::isfinite(top) ? std::max(top - floor_above_eye, 1.0) : INFINITY;
-  const double tr = o.transport_per_m(), mu = o.diffusion_decay_per_m(depth);
-  const double cap = !o.multiple_scattering ? 0.0 : std::isfinite(depth) ? o.extinction_per_m * depth : 1e30;
-  f.diffusion = glm::vec4(float(tr), float(mu), float(fog::kHandoverRate), float(cap));
-  f.lights.resize(lights.lights.size());
-  glm::dvec3 fluence(0.0);
-  glm::dmat3 flux(0.0);
-  for (size_t i = 0; i < lights.lights.size(); ++i) {
-    const FogLight& l = lights.lights[i];
-    FrameLight& fl = f.lights[i];
-    const glm::dvec3 rel = enu_from_ecef * (l.position_ecef_m - eye.eye_ecef_m);
-    fl.position_enu_m = glm::vec3(rel);
-    fl.intensity_cd = glm::vec3(l.intensity_cd);
-    fl.axis_enu = glm::vec3(enu_from_ecef * l.axis_ecef);
-    fl.cos_inner = static_cast<float>(l.cos_inner);
-    fl.cos_outer = static_cast<float>(l.cos_outer);
-    // The part of the eye-light segment inside the layer (heights in the tangent plane at the eye).
-    const double beta =
-        o.extinction_per_m * fog::twin::atmo_fog_inside_fraction(0.0f, fl.position_enu_m.z, f.top_above_eye_m);
-    fl.beta_per_m = static_cast<float>(beta);
-    const double d = glm::length(rel);
-    const double peak = std::max({l.intensity_cd.x, l.intensity_cd.y, l.intensity_cd.z});
-    fl.glow_radius_rad = fog.bound ? static_cast<float>(fog.bound->radius_rad(beta, o.albedo, std::max(d, 1e-3), peak,
-                                                                              threshold_cd_m2))
-                                   : 0.0f;
-    if (o.multiple_scattering && d > 0.0) {
-      const glm::vec2 p1 = fog::twin::atmo_fog_diffusion_light(f.diffusion, static_cast<float>(d),
-                                                                static_cast<float>(beta * d), false);
-      const double phi = p1.x, flux_magnitude = p1.y;
-      const glm::dvec3 towards = rel / d;
-      const glm::dvec3 power = l.intensity_cd * l.mean_profile;
-      fluence += phi * power;
-      for (int c = 0; c < 3; ++c) flux[c] += flux_magnitude * power[c] * towards;
-    }
-  }
-  f.fluence = glm::vec3(fluence);
-  f.flux_towards_lights = glm::mat3(flux);
-  return f;
-}
-
-std::vector<float> surface_light_ranges(const ContextFog& fog, const FogFrame& frame,
-                                        double threshold_cd_m2) {
-  std::vector<float> range(frame.lights.size(), 0.0f);
-  const glm::vec2 size(static_cast<float>(fog.surface.width),
-                       static_cast<float>(fog.surface.height / fog::kSurfaceLayers));
-  for (size_t i = 0; i < frame.lights.size(); ++i) {
-    const FrameLight& l = frame.lights[i];
-    const double peak = std::max({l.intensity_cd.x, l.intensity_cd.y, l.intensity_cd.z});
-    if (!(peak > 0.0)) continue;
-    // Distances 1 m .. 1000 km, 8 per octave; the range is the step past the last one above the threshold.
-    for (int k = 0; k <= 160; ++k) {
-      const float r = std::exp2(static_cast<float>(k) / 8.0f);
-      const float beta = l.beta_per_m;
-      const glm::vec2 t = fog::twin::atmo_fog_surface_terms(fog.surface, size, beta, static_cast<float>(fog.optics.albedo),
-                                                            frame.diffusion, r, beta * r, 1.0f, 1.0f, 1.0f);
-      if (peak * t.x / M_PI >= threshold_cd_m2) range[i] = std::exp2(static_cast<float>(k + 1) / 8.0f);
-    }
-  }
-  return range;
 }
 
 }  // namespace atmo::abi

@@ -35,7 +35,7 @@ const core::night::NightPlan& plan_night_sky(AtmoContext_T* c, AtmoView_T& view,
   in.display_encoded = inputs.output_encoding == ATMO_OUTPUT_DISPLAY_SRGB;
   in.pixel_solid_angle_sr = centre_pixel_solid_angle_sr(view.state);
   in.method_has_sky_view = inputs.method != gl::SkyMethod::kMarch;
-  view.night_plan = core::night::plan_night_sky(scene, c->lut, c->multiple_scattering, in);
+  view.night_plan = core::night::plan_night_sky(scene, c->transmittance, c->multiple_scattering, in);
   return view.night_plan;
 }
 
@@ -136,7 +136,7 @@ bool collect_night_points(AtmoContext_T* c, AtmoView_T& view, const core::Scene&
   if (plan.limiting_magnitude < core::night::kBrightestStarMagnitude) {
     // Daylight: only planets passed the darkest-sky limit. Each is kept only if it can change a pixel of the sky
     // in its own direction (Venus near the Sun is lost in the aureole), the sky from the CPU twin's march.
-    const twin::Lut2D& t = c->lut;
+    const twin::Lut2D& t = c->transmittance;
     const twin::Lut2D& ms = c->multiple_scattering;
     bool any = false;
     auto hidden = [&](const core::night::PointSource& p) {

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "abi/objects.h"
-#include "core/scene.h"
+#include "core/scene/scene.h"
 #include "gl/renderer.h"
 
 namespace atmo::abi {

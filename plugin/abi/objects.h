@@ -14,13 +14,13 @@
 #include "abi/host_services.h"
 #include "abi/table_builder.h"
 #include "atmo/atmo.h"
-#include "core/atmosphere_model.h"
+#include "core/atmosphere/atmosphere_model.h"
 #include "core/astro/ephemeris.h"
-#include "core/eye_frame.h"
+#include "core/geo/eye_frame.h"
 #include "core/night_sky/night_plan.h"
 #include "core/night_sky/point_sources.h"
-#include "core/sky_bodies.h"
-#include "core/sky_lighting.h"
+#include "core/astro/sky_bodies.h"
+#include "core/sky/sky_lighting.h"
 #include "gl/cloud_renderer.h"
 #include "gl/fog_renderer.h"
 #include "gl/night_renderer.h"
@@ -47,13 +47,12 @@ struct AtmoContext_T {
   // table_worker while frames keep these, and the calling thread swaps the new
   // ones in (abi/scene_inputs.cpp): only the host's thread reads or writes
   // these members, so no lock.
-  using LutKey = atmo::abi::TableKey;
-  LutKey lut_key;
-  atmo::twin::Lut2D lut;                  // transmittance
-  atmo::twin::Lut2D multiple_scattering;  // Psi_ms, built from lut
-  uint64_t lut_version = 0;          // bumps when the CPU tables change (0: none yet)
-  uint64_t uploaded_lut_version = 0; // what the GL texture holds (0: nothing)
-  LutKey lut_wanted;                 // the key asked for last (the current air at the last view's sphere)
+  atmo::abi::TableKey tables_key;
+  atmo::twin::Lut2D transmittance;        // to the top of the air
+  atmo::twin::Lut2D multiple_scattering;  // Psi_ms, built from the transmittance
+  uint64_t tables_version = 0;            // bumps when the CPU tables change (0: none yet)
+  uint64_t uploaded_tables_version = 0;   // what the GL texture holds (0: nothing)
+  atmo::abi::TableKey tables_wanted;      // the key asked for last (the current air at the last view's sphere)
   atmo::abi::TableWorker table_worker;  // joined by destroy_context (and its destructor)
 
   // The clouds (set_clouds) and their GL objects (built by the first cloud pass with clouds).
@@ -62,8 +61,8 @@ struct AtmoContext_T {
 
   // Fog (set_fog) and the host's lights (set_lights); their GL objects are
   // built by the first fog pass or get_fog_lighting with fog.
-  atmo::abi::ContextFog fog;
-  atmo::abi::ContextLights lights;
+  atmo::fog::FogMedium fog;
+  atmo::fog::FogLights lights;
   atmo::gl::FogRenderer fog_renderer;
   uint64_t fog_serial = 0;  // bumps on every set_fog and set_lights (the views' fog frames follow)
 
@@ -114,13 +113,13 @@ struct AtmoView_T {
   bool have_sky_lighting = false;
   glm::dvec3 sky_lighting_sun_enu{0.0};
   double sky_lighting_altitude_m = 0.0;
-  uint64_t sky_lighting_lut_version = 0;
+  uint64_t sky_lighting_tables_version = 0;
   atmo::core::SkyLighting sky_lighting;
 
   // The lights of this view's frame in the fog (make_fog_frame: every light
   // against the eye, glow bounds, the diffusion sum), shared by
   // get_fog_lighting and the glow pass, and the serials it was made at.
-  std::optional<atmo::abi::FogFrame> fog_frame;
+  std::optional<atmo::fog::FogFrame> fog_frame;
   uint64_t fog_frame_context_serial = 0, fog_frame_view_serial = 0;
 };
 

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "abi/validation.h"
-#include "core/analytic_tier.h"
+#include "core/sky/analytic_tier.h"
 
 namespace atmo::abi {
 
@@ -52,11 +52,11 @@ gl::PassInputs make_pass_inputs(const core::Scene& scene, const AtmoView_T& view
   in.method = resolve_sky_method(v.sky_method, scene.eye_altitude_m, thickness_m);
   in.aerial_range_m = aerial_volume_range_m(scene, v, view.eye.view_from_clip);
   auto or_default = [](uint32_t value, int fallback) { return value != 0 ? static_cast<int>(value) : fallback; };
-  in.lut.sky_view_width = or_default(v.sky_view_table_size[0], in.lut.sky_view_width);
-  in.lut.sky_view_height = or_default(v.sky_view_table_size[1], in.lut.sky_view_height);
-  in.lut.aerial_width = or_default(v.aerial_volume_size[0], in.lut.aerial_width);
-  in.lut.aerial_height = or_default(v.aerial_volume_size[1], in.lut.aerial_height);
-  in.lut.aerial_slices = or_default(v.aerial_volume_size[2], in.lut.aerial_slices);
+  in.table_sizes.sky_view_width = or_default(v.sky_view_table_size[0], in.table_sizes.sky_view_width);
+  in.table_sizes.sky_view_height = or_default(v.sky_view_table_size[1], in.table_sizes.sky_view_height);
+  in.table_sizes.aerial_width = or_default(v.aerial_volume_size[0], in.table_sizes.aerial_width);
+  in.table_sizes.aerial_height = or_default(v.aerial_volume_size[1], in.table_sizes.aerial_height);
+  in.table_sizes.aerial_slices = or_default(v.aerial_volume_size[2], in.table_sizes.aerial_slices);
 
   if (in.method == gl::SkyMethod::kAnalytic) {
     const core::AnalyticTier tier = core::analytic_tier(view.context->atmosphere, in.atmosphere, transmittance,

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "abi/objects.h"
-#include "core/scene.h"
+#include "core/scene/scene.h"
 #include "gl/renderer.h"
 
 namespace atmo::abi {

@@ -18,17 +18,17 @@ void flush_table_log(AtmoContext_T* c) {
 }
 
 void install(AtmoContext_T* c, AtmosphereTables&& tables) {
-  c->lut = std::move(tables.transmittance);
+  c->transmittance = std::move(tables.transmittance);
   c->multiple_scattering = std::move(tables.multiple_scattering);
-  c->lut_key = tables.key;
-  ++c->lut_version;
+  c->tables_key = tables.key;
+  ++c->tables_version;
 }
 
 // Brings the context's tables towards `wanted`, never waiting after the first build.
 void update_tables(AtmoContext_T* c, const TableKey& wanted) {
-  c->lut_wanted = wanted;
+  c->tables_wanted = wanted;
   flush_table_log(c);
-  if (c->lut_version == 0) {
+  if (c->tables_version == 0) {
     // First use: there is nothing to draw with, so build here.
     AtmosphereTables tables;
     build_tables(
@@ -38,7 +38,7 @@ void update_tables(AtmoContext_T* c, const TableKey& wanted) {
     return;
   }
   AtmosphereTables done;
-  if (c->table_worker.take_finished(&done) && wanted != c->lut_key && done.key != c->lut_key) {
+  if (c->table_worker.take_finished(&done) && wanted != c->tables_key && done.key != c->tables_key) {
     // Tables for an air asked for since the ones in use: newer, even when the air changed again meanwhile.
     char ms[32];
     std::snprintf(ms, sizeof(ms), "%.0f", done.build_ms);
@@ -47,7 +47,7 @@ void update_tables(AtmoContext_T* c, const TableKey& wanted) {
                                        (done.key == wanted ? "" : "; the newest air is built next"));
     install(c, std::move(done));
   }
-  if (wanted == c->lut_key) {
+  if (wanted == c->tables_key) {
     c->table_worker.cancel_all();  // back to the air in use: drop what was asked for since
   } else {
     c->table_worker.request(wanted);
@@ -66,23 +66,23 @@ core::Scene prepare_scene(AtmoContext_T* c, AtmoView_T& view) {
   const core::SkyBodies bodies = found ? *found : core::low_precision_sky_bodies(c->utc_posix_s, c->dut1_s, view.eye);
   core::Scene s = core::make_scene(c->atmosphere, bodies, view.eye);
   update_tables(c, table_key(c->atmosphere, s.sphere_radius_m));
-  if (c->lut_key != c->lut_wanted) {
+  if (c->tables_key != c->tables_wanted) {
     // The new tables are being built: draw and light with the air (and the
     // model sphere) the tables in use were made for, so everything agrees with them.
-    s = core::make_scene(c->lut_key.settings(), bodies, view.eye);
-    if (s.sphere_radius_m != c->lut_key.radius_m) {
-      s.sphere_radius_m = c->lut_key.radius_m;
-      s.atmosphere.bottom_radius_m = static_cast<float>(c->lut_key.radius_m);
-      s.atmosphere.top_radius_m = static_cast<float>(c->lut_key.radius_m + core::kAtmosphereThicknessM);
+    s = core::make_scene(c->tables_key.settings(), bodies, view.eye);
+    if (s.sphere_radius_m != c->tables_key.radius_m) {
+      s.sphere_radius_m = c->tables_key.radius_m;
+      s.atmosphere.bottom_radius_m = static_cast<float>(c->tables_key.radius_m);
+      s.atmosphere.top_radius_m = static_cast<float>(c->tables_key.radius_m + core::kAtmosphereThicknessM);
     }
   }
   return s;
 }
 
 void air_changed(AtmoContext_T* c) noexcept {
-  if (c->lut_version == 0) return;  // the first frame builds them
+  if (c->tables_version == 0) return;  // the first frame builds them
   try {
-    update_tables(c, table_key(c->atmosphere, c->lut_wanted.radius_m));
+    update_tables(c, table_key(c->atmosphere, c->tables_wanted.radius_m));
   } catch (const std::exception& e) {
     // E.g. no thread could be started: the next frame asks again.
     c->services.log(ATMO_LOG_WARNING, std::string("atmo: set_atmosphere: the table build could not start yet: ") + e.what());
@@ -93,8 +93,8 @@ void air_changed(AtmoContext_T* c) noexcept {
 void wait_for_tables(AtmoContext_T* c, AtmoView_T* view) {
   if (view && view->have_state && c->have_frame) prepare_scene(c, *view);
   c->table_worker.wait_idle();
-  if (c->lut_version != 0) {
-    update_tables(c, c->lut_wanted);
+  if (c->tables_version != 0) {
+    update_tables(c, c->tables_wanted);
   } else {
     flush_table_log(c);
   }
@@ -110,14 +110,14 @@ void stop_table_builds(AtmoContext_T* c) noexcept {
 
 const core::SkyLighting& view_sky_lighting(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene) {
   constexpr double kSkyLightingSunStepRad = 0.1 * M_PI / 180.0;
-  const bool stale = !view->have_sky_lighting || view->sky_lighting_lut_version != ctx->lut_version ||
+  const bool stale = !view->have_sky_lighting || view->sky_lighting_tables_version != ctx->tables_version ||
                      glm::dot(view->sky_lighting_sun_enu, scene.sun_direction_enu) < std::cos(kSkyLightingSunStepRad) ||
                      std::abs(view->sky_lighting_altitude_m - scene.eye_altitude_m) > 0.01 * scene.eye_altitude_m + 10.0;
   if (stale) {
-    view->sky_lighting = core::compute_sky_lighting(scene, ctx->lut, ctx->multiple_scattering);
+    view->sky_lighting = core::compute_sky_lighting(scene, ctx->transmittance, ctx->multiple_scattering);
     view->sky_lighting_sun_enu = scene.sun_direction_enu;
     view->sky_lighting_altitude_m = scene.eye_altitude_m;
-    view->sky_lighting_lut_version = ctx->lut_version;
+    view->sky_lighting_tables_version = ctx->tables_version;
     view->have_sky_lighting = true;
   }
   return view->sky_lighting;

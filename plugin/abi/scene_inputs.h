@@ -4,7 +4,7 @@
 #pragma once
 
 #include "abi/objects.h"
-#include "core/scene.h"
+#include "core/scene/scene.h"
 
 namespace atmo::abi {
 
@@ -14,7 +14,7 @@ namespace atmo::abi {
 // the host's log); when the key changes later the worker builds the new ones
 // and, until they are ready, the scene keeps the air of the tables in use (so
 // the passes and get_lighting stay consistent with them). A finished build is
-// swapped in here, on the host's thread (bumping lut_version), and the
+// swapped in here, on the host's thread (bumping tables_version), and the
 // worker's progress lines are logged here.
 core::Scene prepare_scene(AtmoContext_T* context, AtmoView_T& view);
 

@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "atmo/atmo.h"
-#include "core/atmosphere_model.h"
+#include "core/atmosphere/atmosphere_model.h"
 
 namespace atmo::abi {
 

@@ -6,8 +6,8 @@
 #include <string>
 
 #include "atmo/atmo.h"
-#include "core/atmosphere_model.h"
-#include "core/eye_frame.h"
+#include "core/atmosphere/atmosphere_model.h"
+#include "core/geo/eye_frame.h"
 
 namespace atmo::abi {
 

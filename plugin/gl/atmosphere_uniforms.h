@@ -6,7 +6,7 @@
 
 #include <glad/gl.h>
 
-#include "core/shader_twin.h"
+#include "core/atmosphere/shader_twin.h"
 
 namespace atmo::gl {
 

@@ -114,7 +114,7 @@ bool FogRenderer::upload_tables(const fog::FogTable& airlight, const fog::FogTab
 bool FogRenderer::draw(const Renderer&, const PassInputs& in, const FogDrawInputs& fog, std::string* error) {
   while (glGetError() != GL_NO_ERROR) {}
   if (!build_programs(error)) return false;
-  const abi::FogFrame& frame = *fog.frame;
+  const fog::FogFrame& frame = *fog.frame;
   // The glows' rectangles and instance data.
   const glm::dmat4 clip_from_view = glm::inverse(glm::dmat4(in.view_from_clip));
   const glm::dmat4 clip_from_enu = clip_from_view * glm::dmat4(glm::transpose(glm::dmat3(in.enu_from_view)));
@@ -122,7 +122,7 @@ bool FogRenderer::draw(const Renderer&, const PassInputs& in, const FogDrawInput
   stats_ = FogDrawStats{};
   stats_.lights = static_cast<int>(frame.lights.size());
   const double half_w = 0.5 * in.viewport[2], half_h = 0.5 * in.viewport[3];
-  for (const abi::FrameLight& l : frame.lights) {
+  for (const fog::FrameLight& l : frame.lights) {
     // Below the threshold beyond min_sin: the shader floors sin(gamma) there, so no pixel can show it.
     if (l.glow_radius_rad <= fog.min_sin) continue;
     const double d = glm::length(glm::dvec3(l.position_enu_m));
@@ -180,11 +180,11 @@ bool FogRenderer::draw(const Renderer&, const PassInputs& in, const FogDrawInput
   return check_gl("drawing the fog and glows", error);
 }
 
-bool FogRenderer::upload_host_lights(const abi::FogFrame& frame, const glm::dmat3& world_from_enu,
+bool FogRenderer::upload_host_lights(const fog::FogFrame& frame, const glm::dmat3& world_from_enu,
                                      const std::vector<float>& range_m, std::string* error) {
   std::vector<float> texels(frame.lights.size() * 16);
   for (size_t i = 0; i < frame.lights.size(); ++i) {
-    const abi::FrameLight& l = frame.lights[i];
+    const fog::FrameLight& l = frame.lights[i];
     const glm::vec3 p(world_from_enu * glm::dvec3(l.position_enu_m));
     const glm::vec3 axis(world_from_enu * glm::dvec3(l.axis_enu));
     const float t[16] = {p.x, p.y, p.z, range_m[i], l.intensity_cd.x, l.intensity_cd.y, l.intensity_cd.z, l.cos_inner,

@@ -13,17 +13,17 @@
 
 #include <glm/glm.hpp>
 
-#include "abi/fog_inputs.h"
+#include "core/fog/fog_frame.h"
 #include "gl/renderer.h"
 
 namespace atmo::gl {
 
 struct FogDrawInputs {
-  const abi::FogFrame* frame = nullptr;
+  const fog::FogFrame* frame = nullptr;
   float extinction_per_m = 0.0f;
   float albedo = 1.0f;
   glm::vec3 ambient_cd_m2{0.0f};  // the fog's isotropic light from the sky, Sun and Moon
-  float min_sin = 0.0f;           // floor of sin(gamma): 0.2836 of a pixel's angle (entry.cpp)
+  float min_sin = 0.0f;           // floor of sin(gamma): 0.2836 of a pixel's angle (core/fog/fog_frame.h glow_min_sin)
   glm::mat4 clip_from_enu{1.0f};  // host projection * (view from the eye's ENU): the glows' rectangles
 };
 
@@ -49,7 +49,7 @@ class FogRenderer {
   bool draw(const Renderer& renderer, const PassInputs& in, const FogDrawInputs& fog, std::string* error);
   // The host's light texture: per light 4 RGBA32F texels (see atmo_fog_lights.glsl), positions relative to
   // the eye in the view's world axes; `world_from_enu` rotates the eye's ENU into them. range_m per light.
-  bool upload_host_lights(const abi::FogFrame& frame, const glm::dmat3& world_from_enu,
+  bool upload_host_lights(const fog::FogFrame& frame, const glm::dmat3& world_from_enu,
                           const std::vector<float>& range_m, std::string* error);
   GLuint surface_table() const { return surface_table_; }
   GLuint light_texture() const { return light_texture_; }

@@ -147,7 +147,7 @@ bool NightRenderer::draw_points(const PassInputs& in, const NightSkyTextures& te
     night.moonlit_sky = night.moonlit_sky && textures.moon_sky_view != 0;
     const PassTableSizes sizes{textures.transmittance_size, textures.multiple_scattering_size, textures.sky_view_size,
                                textures.moon_sky_scale};
-    set_pass_uniforms(p.pass, in, sizes, in.lut.march_sky_steps, night);
+    set_pass_uniforms(p.pass, in, sizes, in.table_sizes.march_sky_steps, night);
     glUniformMatrix4fv(p.clip_from_view, 1, GL_FALSE, glm::value_ptr(clip_from_view));
     glUniformMatrix3fv(p.view_from_enu, 1, GL_FALSE, glm::value_ptr(view_from_enu));
     glUniform4fv(p.draw_viewport, 1, draw_viewport);

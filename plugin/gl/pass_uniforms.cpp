@@ -72,7 +72,7 @@ void set_pass_uniforms(const PassUniforms& u, const PassInputs& in, const PassTa
   glUniform1i(u.aerial_inscatter, static_cast<GLint>(kAerialInscatterUnit));
   glUniform1i(u.aerial_transmittance, static_cast<GLint>(kAerialTransmittanceUnit));
   glUniform1f(u.aerial_range, in.aerial_range_m);
-  glUniform1i(u.aerial_slices, in.lut.aerial_slices);
+  glUniform1i(u.aerial_slices, in.table_sizes.aerial_slices);
   glUniform1f(u.analytic_weight, in.analytic_weight);
   const glm::vec3* c[6] = {&in.preetham.A, &in.preetham.B, &in.preetham.C,
                            &in.preetham.D, &in.preetham.E, &in.preetham.zenith_Yxy};

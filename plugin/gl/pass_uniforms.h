@@ -45,7 +45,7 @@ struct PassUniforms {
 PassUniforms locate_pass_uniforms(GLuint program);
 
 // What the uniforms take besides PassInputs: the bound tables' sizes and the
-// moonlit table's scale to the current Moon (the volume's slices come from in.lut).
+// moonlit table's scale to the current Moon (the volume's slices come from in.table_sizes).
 struct PassTableSizes {
   glm::vec2 transmittance{1.0f};
   glm::vec2 multiple_scattering{1.0f};

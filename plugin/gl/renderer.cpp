@@ -128,7 +128,7 @@ void Renderer::forget() {
   moon_sky_view_key_.clear();
 }
 
-void Renderer::use_lut_settings(const LutSettings& s) {
+void Renderer::use_table_sizes(const TableSizes& s) {
   if (s == settings_) return;
   settings_ = s;
   derived_allocated_ = false;
@@ -407,7 +407,7 @@ bool Renderer::moon_disc_window_box(const PassInputs& in, int box[4]) const {
 
 bool Renderer::draw_sky(const PassInputs& in, std::string* error) {
   while (glGetError() != GL_NO_ERROR) {}  // errors the host left are not ours
-  use_lut_settings(in.lut);
+  use_table_sizes(in.table_sizes);
   const bool needs_sky_view = in.method == SkyMethod::kLut ||
                               (in.method == SkyMethod::kAnalytic && in.analytic_weight < 1.0f);
   if (needs_sky_view && !ensure_sky_view(in, error)) return false;
@@ -439,7 +439,7 @@ bool Renderer::draw_sky(const PassInputs& in, std::string* error) {
 
 bool Renderer::night_sky_textures(const PassInputs& in, NightSkyTextures* out, std::string* error) {
   while (glGetError() != GL_NO_ERROR) {}
-  use_lut_settings(in.lut);
+  use_table_sizes(in.table_sizes);
   const bool needs_sky_view = in.output_encoding == 1 &&
                               (in.method == SkyMethod::kLut ||
                                (in.method == SkyMethod::kAnalytic && in.analytic_weight < 1.0f));
@@ -458,7 +458,7 @@ bool Renderer::night_sky_textures(const PassInputs& in, NightSkyTextures* out, s
 }
 
 bool Renderer::prepare_pass_tables(const PassUniforms& uniforms, const PassInputs& in, std::string* error) {
-  use_lut_settings(in.lut);
+  use_table_sizes(in.table_sizes);
   if (in.method != SkyMethod::kMarch && !ensure_aerial_volume(in, error)) return false;
   const PassTableSizes sizes{transmittance_size_, multiple_scattering_size_,
                              glm::vec2(settings_.sky_view_width, settings_.sky_view_height), moon_sky_scale_};
@@ -469,7 +469,7 @@ bool Renderer::prepare_pass_tables(const PassUniforms& uniforms, const PassInput
 
 bool Renderer::draw_aerial_perspective(const PassInputs& in, std::string* error) {
   while (glGetError() != GL_NO_ERROR) {}
-  use_lut_settings(in.lut);
+  use_table_sizes(in.table_sizes);
   if (in.method != SkyMethod::kMarch && !ensure_aerial_volume(in, error)) return false;
   const SkyMethod variant = in.method == SkyMethod::kMarch ? SkyMethod::kMarch : SkyMethod::kLut;
   return draw(aerial_[static_cast<int>(variant)], in, settings_.march_aerial_steps, true, error);

@@ -17,9 +17,9 @@
 #include <vector>
 
 #include "core/night_sky/night_sky_twin.h"
-#include "core/preetham.h"
-#include "core/shader_twin.h"
-#include "core/sky_view_table.h"
+#include "core/sky/preetham.h"
+#include "core/atmosphere/shader_twin.h"
+#include "core/sky/sky_view_table.h"
 
 #include "gl/atmosphere_uniforms.h"
 #include "gl/night_terms_uniforms.h"
@@ -31,14 +31,14 @@ namespace atmo::gl {
 enum class SkyMethod : int { kLut = 0, kAnalytic = 1, kMarch = 2 };
 
 // Table sizes and march steps: the quality knobs of the LUT tier.
-struct LutSettings {
+struct TableSizes {
   int sky_view_width = core::kSkyViewWidth, sky_view_height = core::kSkyViewHeight;
   int sky_view_steps = 32;
   int aerial_width = 32, aerial_height = 32, aerial_slices = 32;
   int aerial_steps = 16;
   int march_sky_steps = 32;     // the MARCH tier's per-pixel steps
   int march_aerial_steps = 16;
-  bool operator==(const LutSettings& o) const {
+  bool operator==(const TableSizes& o) const {
     return sky_view_width == o.sky_view_width && sky_view_height == o.sky_view_height &&
            sky_view_steps == o.sky_view_steps && aerial_width == o.aerial_width && aerial_height == o.aerial_height &&
            aerial_slices == o.aerial_slices && aerial_steps == o.aerial_steps &&
@@ -92,7 +92,7 @@ struct PassInputs {
   float aerial_range_m = 1.0e6f;             // distance the volume's last slice reaches
   twin::PreethamCoefficients preetham{};     // ANALYTIC only
   float analytic_weight = 0.0f;              // ANALYTIC only: Preetham's confidence
-  LutSettings lut;                           // table sizes for this view
+  TableSizes table_sizes;                    // the table sizes of this view
   NightTerms night;                          // the sky pass's night terms (and the point pass's sky under a star)
   CloudShadowPass cloud_shadow;              // the clouds' shadow on the sunlit air (texture 0: none)
 };
@@ -132,7 +132,7 @@ class Renderer {
   // before any), for the host's transparent objects.
   GLuint aerial_inscatter_texture() const { return aerial_key_.empty() ? 0 : aerial_inscatter_texture_; }
   GLuint aerial_transmittance_texture() const { return aerial_key_.empty() ? 0 : aerial_transmittance_texture_; }
-  const LutSettings& lut_settings() const { return settings_; }
+  const TableSizes& table_sizes() const { return settings_; }
 
   // The tables the night pass samples for `in`: in DISPLAY_SRGB output the
   // point pass re-evaluates the sky under each source, so the sky-view table
@@ -198,7 +198,7 @@ class Renderer {
   bool ensure_aerial_volume(const PassInputs& in, std::string* error);
   void allocate_derived_tables();
   // Table sizes; reallocates and invalidates the derived tables when they change.
-  void use_lut_settings(const LutSettings& s);
+  void use_table_sizes(const TableSizes& s);
 
   static constexpr int kMethods = 3;
   // One variant per SkyMethod (indexed by its value); the analytic tier's
@@ -217,7 +217,7 @@ class Renderer {
   GLuint moon_sky_view_texture_ = 0;
   GLuint linear_sampler_ = 0, nearest_sampler_ = 0;
   glm::vec2 transmittance_size_{1.0f}, multiple_scattering_size_{1.0f};
-  LutSettings settings_;
+  TableSizes settings_;
   bool derived_allocated_ = false;
   uint64_t tables_version_ = 0;  // bumps on every upload: derived tables depend on it
   // The inputs each derived table was last built from (bytes compared).

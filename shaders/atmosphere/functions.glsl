@@ -1,5 +1,5 @@
 // functions.glsl — the atmosphere model's functions, ONE source for two
-// compilers: the GLSL passes #include it, and plugin/core/shader_twin.h
+// compilers: the GLSL passes #include it, and plugin/core/atmosphere/shader_twin.h
 // compiles it as C++ over GLM (the CPU twin), so tests compare the GPU image
 // with the very same formulas evaluated on the CPU.
 //

@@ -2,7 +2,7 @@
 // Practical Analytic Model for Daylight" (the Perez et al. 1993 all-weather
 // distribution with turbidity-dependent coefficients). Include it AFTER
 // functions.glsl (it uses ATMO_FN, IN() and ATMO_PI); it is written in the same
-// GLSL/C++ subset, so plugin/core/preetham.h compiles it as the CPU twin.
+// GLSL/C++ subset, so plugin/core/sky/preetham.h compiles it as the CPU twin.
 //
 // The coefficients depend only on (turbidity, sun zenith angle): the CPU
 // computes them (atmo::core::preetham_coefficients, double precision) and the

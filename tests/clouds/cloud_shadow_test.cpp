@@ -12,7 +12,7 @@
 
 #include "core/clouds/cloud_shadow.h"
 #include "core/clouds/procedural_clouds.h"
-#include "core/shader_twin.h"
+#include "core/atmosphere/shader_twin.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 

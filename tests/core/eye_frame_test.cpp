@@ -4,7 +4,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "core/eye_frame.h"
+#include "core/geo/eye_frame.h"
 
 using namespace atmo::core;
 

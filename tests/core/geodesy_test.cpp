@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "core/geodesy.h"
+#include "core/geo/geodesy.h"
 
 using namespace atmo::core;
 

@@ -13,7 +13,7 @@
 #include <random>
 #include <vector>
 
-#include "core/atmosphere_model.h"
+#include "core/atmosphere/atmosphere_model.h"
 #include "core/night_sky/background.h"
 #include "core/night_sky/moon_photometry.h"
 #include "core/night_sky/night_vision.h"

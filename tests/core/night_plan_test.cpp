@@ -8,11 +8,11 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/atmosphere_model.h"
+#include "core/atmosphere/atmosphere_model.h"
 #include "core/night_sky/moon_photometry.h"
 #include "core/night_sky/night_plan.h"
 #include "core/night_sky/star_photometry.h"
-#include "core/scene.h"
+#include "core/scene/scene.h"
 
 using namespace atmo;
 

@@ -8,8 +8,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "core/atmosphere_model.h"
-#include "core/preetham.h"
+#include "core/atmosphere/atmosphere_model.h"
+#include "core/sky/preetham.h"
 
 using namespace atmo;
 

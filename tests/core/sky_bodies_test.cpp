@@ -1,5 +1,5 @@
 // The Sun and the Moon as the passes and get_lighting use them
-// (core/sky_bodies.h): against the independent low-precision solar formula,
+// (core/astro/sky_bodies.h): against the independent low-precision solar formula,
 // the cache against fresh results (time, position, height: refraction depends
 // on the height through the horizon's dip), and the moonlight's photometry.
 #include <gtest/gtest.h>
@@ -7,10 +7,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/eye_frame.h"
-#include "core/geodesy.h"
-#include "core/sky_bodies.h"
-#include "core/solar_position.h"
+#include "core/geo/eye_frame.h"
+#include "core/geo/geodesy.h"
+#include "core/astro/sky_bodies.h"
+#include "core/astro/solar_position.h"
 
 using namespace atmo;
 

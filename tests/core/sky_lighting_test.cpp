@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/sky_lighting.h"
+#include "core/sky/sky_lighting.h"
 
 using namespace atmo;
 

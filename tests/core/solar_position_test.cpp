@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/solar_position.h"
+#include "core/astro/solar_position.h"
 
 namespace {
 

@@ -6,7 +6,7 @@
 #include <atomic>
 #include <vector>
 
-#include "core/atmosphere_model.h"
+#include "core/atmosphere/atmosphere_model.h"
 
 namespace core = atmo::core;
 namespace twin = atmo::twin;

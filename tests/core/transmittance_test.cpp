@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <random>
 
-#include "core/atmosphere_model.h"
+#include "core/atmosphere/atmosphere_model.h"
 
 using namespace atmo;
 

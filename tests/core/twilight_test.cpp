@@ -8,8 +8,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/atmosphere_model.h"
-#include "core/shader_twin.h"
+#include "core/atmosphere/atmosphere_model.h"
+#include "core/atmosphere/shader_twin.h"
 
 using namespace atmo;
 

@@ -41,7 +41,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // so the relative errors depend on T, gamma and D_vp / D only.
 constexpr double kBeta = 0.01;
 // The sin(gamma) floor the plugin passes for 1080 rows at 60 deg vertical field of view
-// (plugin/abi/entry.cpp: tan(fov / 2) / rows = 5.3e-4).
+// (core/fog/fog_frame.h glow_min_sin: tan(fov / 2) / rows = 5.3e-4).
 constexpr float kMinSin = 5.0e-4f;
 constexpr double kRefTol = 1e-7;  // the reference's relative tolerance
 // Bounds (fractions), each slightly above what the test measured and printed (the per-region bounds of the
@@ -407,7 +407,7 @@ TEST(FogAirlightAccuracy, SmallAnglesLoseSinGammaToTheFloatCosine) {
 // side p centred on the light (60 deg vertical field of view, 1080 rows) against the shader at gamma = 0 with
 // min_sin = p/4 (atmo_fog_lights.glsl: "the pixel's angular radius / 2", the mean of 1/gamma over a disc of
 // radius p/2), p / (4 ln(1 + sqrt 2)) = 0.2836 p (the same mean over the square) and p/2 (what
-// plugin/abi/entry.cpp passes: tan(fov/2) / rows).
+// core/fog/fog_frame.h glow_min_sin gives: tan(fov/2) / rows).
 TEST(FogAirlightAccuracy, ThePixelOnTheLightAndTheSinFloor) {
   const double g = 0.85;
   const fog::FogTable& table = airlight_table(64, g);

@@ -4,7 +4,7 @@
 // and a host compiled with the 392-byte layout left untouched past its end.
 #include <cstring>
 
-#include "core/sky_bodies.h"
+#include "core/astro/sky_bodies.h"
 #include "plugin_gl_fixture.h"
 
 using namespace plugin_gl;

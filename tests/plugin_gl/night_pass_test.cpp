@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "core/sky_bodies.h"
+#include "core/astro/sky_bodies.h"
 #include "plugin_gl_fixture.h"
 
 using namespace plugin_gl;

@@ -29,11 +29,11 @@
 #include "atmo_support/gl_state.h"
 #include "atmo_support/headless_gl.h"
 #include "atmo_support/offscreen_target.h"
-#include "core/atmosphere_model.h"
+#include "core/atmosphere/atmosphere_model.h"
 #include "core/night_sky/point_sources.h"
 #include "core/night_sky/star_photometry.h"
-#include "core/shader_twin.h"
-#include "core/sky_view_table.h"
+#include "core/atmosphere/shader_twin.h"
+#include "core/sky/sky_view_table.h"
 #include "gl/night_renderer.h"
 
 namespace {
@@ -516,7 +516,7 @@ TEST_F(NightPoints, DisplayEncodedOutputOnADarkSky) {
                 : twin::sky_radiance(t.atmosphere, t.transmittance, glm::vec2(t.transmittance.width, t.transmittance.height),
                                      t.multiple_scattering,
                                      glm::vec2(t.multiple_scattering.width, t.multiple_scattering.height),
-                                     kEyeAltitudeM, d, in_.sun_direction_enu, in_.lut.march_sky_steps);
+                                     kEyeAltitudeM, d, in_.sun_direction_enu, in_.table_sizes.march_sky_steps);
         const float w = static_cast<float>(night::star_footprint_weight(dx, dy));
         const glm::vec3 expect = twin::encode_display_srgb((sky + glm::vec3(star_sum) * w) * in_.exposure);
         for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(static_cast<double>(v[c]) - expect[c]));

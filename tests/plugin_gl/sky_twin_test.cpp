@@ -3,8 +3,8 @@
 // same inputs through the pure core. Agreement shows the GL layer passes the
 // right numbers; it says nothing about the physics (that is the reference
 // integrator's job).
-#include "core/scene.h"
-#include "core/sky_view_table.h"
+#include "core/scene/scene.h"
+#include "core/sky/sky_view_table.h"
 #include "plugin_gl_fixture.h"
 
 using namespace plugin_gl;

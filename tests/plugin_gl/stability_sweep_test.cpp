@@ -19,7 +19,7 @@
 // The sweep stands at the subsolar point of 2024-06-21T10:00Z (sun at the
 // zenith, 90°) and finds, by bisection over the morning, the times that put
 // the sun at the wanted apparent elevations at the ground, with the core's own
-// ephemeris (plugin/core/sky_bodies.h: refraction included, so from 10 km a
+// ephemeris (plugin/core/astro/sky_bodies.h: refraction included, so from 10 km a
 // sun put at -4° at the ground shows at -3.8°); get_lighting confirms each
 // elevation at the view's own height.
 // Every group prints a summary line ("[ sweep ] ...") so the log documents
@@ -34,12 +34,12 @@
 #include <utility>
 #include <vector>
 
-#include "core/analytic_tier.h"
-#include "core/geodesy.h"
-#include "core/preetham.h"
-#include "core/scene.h"
-#include "core/sky_bodies.h"
-#include "core/solar_position.h"
+#include "core/sky/analytic_tier.h"
+#include "core/geo/geodesy.h"
+#include "core/sky/preetham.h"
+#include "core/scene/scene.h"
+#include "core/astro/sky_bodies.h"
+#include "core/astro/solar_position.h"
 #include "atmo_support/example_view.h"
 #include "plugin_gl_fixture.h"
 
@@ -662,7 +662,7 @@ Smoothness smoothness(const std::vector<double>& series, bool display) {
 
 // The ANALYTIC tier cross-fades Preetham into the LUT tier as its confidence
 // falls: sun elevation 6° -> 2°, eye altitude 500 -> 2000 m, turbidity 2.2 ->
-// 1.7 (and 8.5 -> 10; plugin/core/preetham.h). Each series sweeps one of them
+// 1.7 (and 8.5 -> 10; plugin/core/sky/preetham.h). Each series sweeps one of them
 // across its ramp, the others held inside the fit, in two views (50° to the
 // side of the sun, so its disc stays out of the mean, and away from it; 60°
 // field of view, pitch 20°, the horizon in the lower part), linear and

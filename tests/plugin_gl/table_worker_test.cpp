@@ -1,7 +1,7 @@
 // The context's lookup tables after the first frame are rebuilt on a worker
 // thread: frames never wait for them. The plugin is linked statically here
 // (atmo_plugin_static) so the test can hold the worker on a latch through its
-// test hook and look at what the context draws with (lut_version, lut_key);
+// test hook and look at what the context draws with (tables_version, tables_key);
 // it is driven through the same C ABI function table a host gets.
 //
 // Proved: (a) while the worker is held, render_pass and get_lighting return
@@ -204,16 +204,16 @@ bool same_image(const Image& a, const Image& b) { return a.rgba == b.rgba; }
 
 TEST(TableWorker, FirstUseBuildsOnTheCallingThreadWithProgressInTheLog) {
   Host host;
-  EXPECT_EQ(host.inside().lut_version, 0u);
+  EXPECT_EQ(host.inside().tables_version, 0u);
   host.lighting();
-  EXPECT_EQ(host.inside().lut_version, 1u);
-  EXPECT_EQ(host.inside().lut_key.visibility_m, 40000.0);
+  EXPECT_EQ(host.inside().tables_version, 1u);
+  EXPECT_EQ(host.inside().tables_key.visibility_m, 40000.0);
   EXPECT_EQ(host.worker().builds_started(), 0u);  // no worker for the first tables
-  EXPECT_EQ(atmo::abi::describe(host.inside().lut_key).rfind("visibility 40000 m, aerosol scale height 1200 m, "
+  EXPECT_EQ(atmo::abi::describe(host.inside().tables_key).rfind("visibility 40000 m, aerosol scale height 1200 m, "
                                                              "ground albedo 0.1, sphere radius 63",
                                                              0),
             0u);
-  EXPECT_EQ(host.log.count("atmo: building atmosphere tables (" + atmo::abi::describe(host.inside().lut_key) +
+  EXPECT_EQ(host.log.count("atmo: building atmosphere tables (" + atmo::abi::describe(host.inside().tables_key) +
                                ") on the calling thread, before the first frame",
                            ATMO_LOG_INFO),
             1)
@@ -238,8 +238,8 @@ TEST(TableWorker, FramesKeepTheOldTablesWhileTheWorkerIsHeldThenTheNextCallSwaps
   Host host(gl.get());
   const Image clear_image = host.render(*target);
   const AtmoLighting clear_light = host.lighting();
-  ASSERT_EQ(host.inside().lut_version, 1u);
-  ASSERT_EQ(host.inside().uploaded_lut_version, 1u);
+  ASSERT_EQ(host.inside().tables_version, 1u);
+  ASSERT_EQ(host.inside().uploaded_tables_version, 1u);
 
   Gate gate;
   host.worker().test_before_build = gate.hook();
@@ -251,20 +251,20 @@ TEST(TableWorker, FramesKeepTheOldTablesWhileTheWorkerIsHeldThenTheNextCallSwaps
     const Image image = host.render(*target);
     EXPECT_TRUE(same_image(image, clear_image)) << "frame " << frame;
     EXPECT_TRUE(same_light(host.lighting(), clear_light)) << "frame " << frame;
-    EXPECT_EQ(host.inside().lut_version, 1u);
-    EXPECT_EQ(host.inside().uploaded_lut_version, 1u);
-    EXPECT_EQ(host.inside().lut_key.visibility_m, 40000.0);
+    EXPECT_EQ(host.inside().tables_version, 1u);
+    EXPECT_EQ(host.inside().uploaded_tables_version, 1u);
+    EXPECT_EQ(host.inside().tables_key.visibility_m, 40000.0);
     EXPECT_TRUE(host.worker().busy());
     EXPECT_EQ(host.worker().progress(), 0.0);
   }
 
   gate.release();
   host.worker().wait_idle();  // the tables are built; nothing is swapped until the host calls
-  EXPECT_EQ(host.inside().lut_version, 1u);
+  EXPECT_EQ(host.inside().tables_version, 1u);
   const Image hazy_image = host.render(*target);
-  EXPECT_EQ(host.inside().lut_version, 2u);
-  EXPECT_EQ(host.inside().uploaded_lut_version, 2u);
-  EXPECT_EQ(host.inside().lut_key.visibility_m, 5000.0);
+  EXPECT_EQ(host.inside().tables_version, 2u);
+  EXPECT_EQ(host.inside().uploaded_tables_version, 2u);
+  EXPECT_EQ(host.inside().tables_key.visibility_m, 5000.0);
   EXPECT_FALSE(same_image(hazy_image, clear_image));
   EXPECT_FALSE(same_light(host.lighting(), clear_light));
   EXPECT_EQ(host.worker().builds_started(), 1u);
@@ -273,7 +273,7 @@ TEST(TableWorker, FramesKeepTheOldTablesWhileTheWorkerIsHeldThenTheNextCallSwaps
   Host fresh(gl.get(), 5000.0);
   EXPECT_TRUE(same_image(fresh.render(*target), hazy_image));
   EXPECT_TRUE(same_light(fresh.lighting(), host.lighting()));
-  EXPECT_EQ(fresh.inside().lut.texels, host.inside().lut.texels);
+  EXPECT_EQ(fresh.inside().transmittance.texels, host.inside().transmittance.texels);
   EXPECT_EQ(fresh.inside().multiple_scattering.texels, host.inside().multiple_scattering.texels);
 
   // (d) The worker's lines reached the host's log, on the host's thread only.
@@ -282,7 +282,7 @@ TEST(TableWorker, FramesKeepTheOldTablesWhileTheWorkerIsHeldThenTheNextCallSwaps
   EXPECT_EQ(host.log.count("atmo: transmittance 256x64 ... done in", ATMO_LOG_INFO), 2);
   EXPECT_EQ(host.log.count("atmo: multiple scattering 64x32 ... done in", ATMO_LOG_INFO), 2);
   EXPECT_EQ(host.log.count("atmo: multiple scattering 64x32: 75 %", ATMO_LOG_DEBUG), 2);
-  EXPECT_EQ(host.log.count("atmo: atmosphere tables (" + atmo::abi::describe(host.inside().lut_key) +
+  EXPECT_EQ(host.log.count("atmo: atmosphere tables (" + atmo::abi::describe(host.inside().tables_key) +
                                ") in use from this call, built in ",
                            ATMO_LOG_INFO),
             1)
@@ -302,14 +302,14 @@ TEST(TableWorker, ChangesWhileABuildRunsBuildOnlyTheRunningAndTheNewest) {
   for (double visibility : {10000.0, 15000.0, 20000.0}) {
     host.set_air(visibility);
     host.lighting();
-    EXPECT_EQ(host.inside().lut_version, 1u);
+    EXPECT_EQ(host.inside().tables_version, 1u);
   }
   EXPECT_EQ(host.worker().builds_started(), 1u);
   gate.release();
   atmo::abi::wait_for_tables(&host.inside());
   EXPECT_EQ(host.worker().builds_started(), 2u);  // 5 km (running) and 20 km (the newest); 10 and 15 km never
-  EXPECT_EQ(host.inside().lut_key.visibility_m, 20000.0);
-  EXPECT_EQ(host.inside().lut_version, 2u);
+  EXPECT_EQ(host.inside().tables_key.visibility_m, 20000.0);
+  EXPECT_EQ(host.inside().tables_version, 2u);
   EXPECT_FALSE(host.worker().busy());
   EXPECT_EQ(host.log.count("atmo: building atmosphere tables (visibility 10000 m"), 0);
   EXPECT_EQ(host.log.count("atmo: building atmosphere tables (visibility 15000 m"), 0);
@@ -329,9 +329,9 @@ TEST(TableWorker, GoingBackToTheAirInUseCancelsTheBuild) {
   host.set_air(40000.0);  // back: the running build is cancelled (the gate sees the flag)
   atmo::abi::wait_for_tables(&host.inside());
   EXPECT_EQ(gate.cancelled, 1);
-  EXPECT_EQ(host.inside().lut_version, 1u);
-  EXPECT_EQ(host.inside().lut_key.visibility_m, 40000.0);
-  atmo::abi::TableKey hazy = host.inside().lut_key;
+  EXPECT_EQ(host.inside().tables_version, 1u);
+  EXPECT_EQ(host.inside().tables_key.visibility_m, 40000.0);
+  atmo::abi::TableKey hazy = host.inside().tables_key;
   hazy.visibility_m = 5000.0;
   EXPECT_EQ(host.log.count("atmo: atmosphere table build (" + atmo::abi::describe(hazy) + ") cancelled"), 1)
       << host.log.dump();
@@ -341,16 +341,16 @@ TEST(TableWorker, GoingBackToTheAirInUseCancelsTheBuild) {
 TEST(TableWorker, ANewSphereIsBuiltOnTheWorkerAndWaitForTablesWithTheViewGetsIt) {
   Host host;
   host.lighting();
-  const double radius = host.inside().lut_key.radius_m;
+  const double radius = host.inside().tables_key.radius_m;
   auto equator = view_state(0.0);
   ASSERT_EQ(host.api.set_view(host.view, &equator), ATMO_SUCCESS);
   host.lighting();
-  EXPECT_EQ(host.inside().lut_key.radius_m, radius);  // still the old sphere, while the worker builds
+  EXPECT_EQ(host.inside().tables_key.radius_m, radius);  // still the old sphere, while the worker builds
   atmo::abi::wait_for_tables(&host.inside(), host.view);
-  EXPECT_EQ(host.inside().lut_version, 2u);
-  EXPECT_NE(host.inside().lut_key.radius_m, radius);
+  EXPECT_EQ(host.inside().tables_version, 2u);
+  EXPECT_NE(host.inside().tables_key.radius_m, radius);
   std::printf("[ tables ] sphere radius at 47.26 N: %.0f km, at the equator: %.0f km\n", radius / 1000.0,
-              host.inside().lut_key.radius_m / 1000.0);
+              host.inside().tables_key.radius_m / 1000.0);
 }
 
 // (c) The worker is held inside a build; destroy_context must cancel and join it

@@ -76,7 +76,7 @@ TEST(SpectralAtmosphere, RayleighFromFirstPrinciples) {
 
 TEST(SpectralAtmosphere, ThreeWavelengthCoefficientsAgainstTheRgbModel) {
   RgbCoefficients c = rgb_model_coefficients(40000.0);
-  // The real-time model (plugin/core/atmosphere_model.cpp), for the record.
+  // The real-time model (plugin/core/atmosphere/atmosphere_model.cpp), for the record.
   const glm::dvec3 rgb_rayleigh(5.802e-6, 13.558e-6, 33.1e-6), rgb_ozone(0.650e-6, 1.881e-6, 0.085e-6);
   for (int i = 0; i < 3; ++i)
     std::printf("[ rgb ] %3.0f nm: rayleigh %.4e (RGB model %.4e, %+5.1f %%), ozone %.4e (%.4e, %+5.1f %%), "

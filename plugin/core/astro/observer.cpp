@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/geodesy.h"
+#include "core/geo/geodesy.h"
 
 namespace atmo::core::astro {
 

@@ -1,5 +1,5 @@
 // observer.h — where the sky is seen from: a geodetic point on the WGS84
-// ellipsoid (GeographicLib through core/geodesy.h), the same ellipsoid ERFA
+// ellipsoid (GeographicLib through core/geo/geodesy.h), the same ellipsoid ERFA
 // uses for the observer in the astrometry context (eraGd2gc(ERFA_WGS84)), so
 // an observer built from the frame state's ECEF eye is the eye.
 #pragma once

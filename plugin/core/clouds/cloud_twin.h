@@ -1,7 +1,7 @@
 // cloud_twin.h — compiles shaders/clouds/cloud_functions.glsl and
 // cloud_march.glsl as C++ over GLM, in float like the GPU: the CPU lighting
 // reference, the path tracer's phase function and the GLSL passes evaluate
-// one text (as core/shader_twin.h does for the atmosphere).
+// one text (as core/atmosphere/shader_twin.h does for the atmosphere).
 #pragma once
 
 #include <glm/glm.hpp>

@@ -1,7 +1,7 @@
 // fog_twin.h — compiles host_sdk/include/atmo/atmo_fog_lights.glsl as C++
 // over GLM, in float like the GPU, with the tables sampled as GL_LINEAR +
 // CLAMP_TO_EDGE does: the CPU evaluates the text the glow pass and the
-// hosts' surface shaders run (core/shader_twin.h does this for the sky).
+// hosts' surface shaders run (core/atmosphere/shader_twin.h does this for the sky).
 #pragma once
 
 #include <glm/glm.hpp>

@@ -5,7 +5,7 @@
 #include <limits>
 #include <vector>
 
-#include "core/atmosphere_model.h"
+#include "core/atmosphere/atmosphere_model.h"
 #include "core/night_sky/star_photometry.h"
 #include "core/spectral/colorimetry.h"
 #include "core/spectral/spectral_atmosphere.h"

@@ -15,8 +15,8 @@
 // background fade in by physics and exposure, not by a switch.
 #pragma once
 
-#include "core/scene.h"
-#include "core/shader_twin.h"
+#include "core/scene/scene.h"
+#include "core/atmosphere/shader_twin.h"
 #include "core/night_sky/background.h"
 
 namespace atmo::core::night {

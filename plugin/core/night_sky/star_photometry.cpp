@@ -5,7 +5,7 @@
 #include <limits>
 #include <vector>
 
-#include "core/shader_twin.h"
+#include "core/atmosphere/shader_twin.h"
 #include "core/spectral/colorimetry.h"
 #include "core/spectral/spectral_atmosphere.h"
 

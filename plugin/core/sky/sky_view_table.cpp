@@ -1,4 +1,4 @@
-#include "core/sky_view_table.h"
+#include "core/sky/sky_view_table.h"
 
 namespace atmo::core {
 

@@ -1,10 +1,10 @@
-#include "core/scene.h"
+#include "core/scene/scene.h"
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 
-#include "core/solar_position.h"
+#include "core/astro/solar_position.h"
 
 namespace atmo::core {
 
@@ -18,6 +18,22 @@ Scene make_scene(const AtmosphereSettings& settings, const SkyBodies& bodies, co
   s.eye_altitude_m = std::max(eye.eye.height_m, 1.0);
   s.bodies = bodies;
   return s;
+}
+
+BodyIlluminance body_illuminance(const Scene& scene, const twin::Lut2D& transmittance, double altitude_m) {
+  const twin::AtmosphereParameters& atm = scene.atmosphere;
+  const float r = atm.bottom_radius_m + static_cast<float>(altitude_m);
+  const glm::vec2 size(transmittance.width, transmittance.height);
+  const glm::vec3 sun_t =
+      twin::transmittance_to_sun(atm, transmittance, size, r, static_cast<float>(scene.sun_direction_enu.z));
+  const glm::vec3 moon_t =
+      twin::transmittance_to_sun(atm, transmittance, size, r, static_cast<float>(scene.bodies.moon_enu.z));
+  BodyIlluminance b;
+  for (int i = 0; i < 3; ++i) {
+    b.sun_lux[i] = static_cast<double>(atm.sun_illuminance_lux[i] * sun_t[i]);
+    b.moon_lux[i] = scene.bodies.moon_illuminance_rgb_lux[i] * static_cast<double>(moon_t[i]);
+  }
+  return b;
 }
 
 SkyBodies low_precision_sky_bodies(double utc_posix_s, double dut1_s, const EyeFrame& eye) {

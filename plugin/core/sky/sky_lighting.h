@@ -14,7 +14,7 @@
 #include <array>
 #include <glm/glm.hpp>
 
-#include "core/scene.h"
+#include "core/scene/scene.h"
 
 namespace atmo::core {
 

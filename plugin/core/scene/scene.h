@@ -1,12 +1,12 @@
 // scene.h — the per-view numbers every pass needs, from the world state and
 // the eye: atmosphere parameters on the sphere under the eye, the Sun and the
-// Moon in ENU at the eye (core/sky_bodies.h) and the eye's altitude. Pure;
+// Moon in ENU at the eye (core/astro/sky_bodies.h) and the eye's altitude. Pure;
 // the GL passes and the CPU twin tests call the same function.
 #pragma once
 
-#include "core/atmosphere_model.h"
-#include "core/eye_frame.h"
-#include "core/sky_bodies.h"
+#include "core/atmosphere/atmosphere_model.h"
+#include "core/geo/eye_frame.h"
+#include "core/astro/sky_bodies.h"
 
 namespace atmo::core {
 
@@ -27,8 +27,17 @@ Scene make_scene(const AtmosphereSettings& settings, const SkyBodies& bodies, co
 
 // The same with the bodies computed here (uncached; ~0.3 ms). Should the
 // ephemeris reject the time, the Sun falls back to the low-precision formula
-// of core/solar_position.h and the Moon is put below the horizon.
+// of core/astro/solar_position.h and the Moon is put below the horizon.
 Scene make_scene(const AtmosphereSettings& settings, double utc_posix_s, double dut1_s, const EyeFrame& eye);
+
+// The Sun's and the Moon's illuminance after the air at an altitude (above
+// the model sphere, along the eye's zenith), lux per channel: the
+// transmittance table along each direction (0 where the ray meets the Earth).
+struct BodyIlluminance {
+  glm::dvec3 sun_lux{0.0};
+  glm::dvec3 moon_lux{0.0};
+};
+BodyIlluminance body_illuminance(const Scene& scene, const twin::Lut2D& transmittance, double altitude_m);
 
 // The fallback above, also for a cache that failed.
 SkyBodies low_precision_sky_bodies(double utc_posix_s, double dut1_s, const EyeFrame& eye);

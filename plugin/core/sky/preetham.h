@@ -13,7 +13,7 @@
 
 #include <string>
 
-#include "core/shader_twin.h"
+#include "core/atmosphere/shader_twin.h"
 
 // The shared GLSL source as C++ (no-op if shader_twin.h already included it:
 // preetham.glsl carries its own include guard, valid in GLSL and C++).
@@ -59,7 +59,7 @@ void preetham_zenith_chromaticity(double turbidity, double sun_zenith_rad, doubl
 
 // Turbidity from the meteorological optical range, by the definition the paper
 // uses, T = (tau_molecules + tau_haze) / tau_molecules (vertical optical
-// thickness at 550 nm), with the project's air (core/atmosphere_model.h):
+// thickness at 550 nm), with the project's air (core/atmosphere/atmosphere_model.h):
 // tau_molecules = 13.558e-6 /m x 8000 m = 0.1085, haze extinction from
 // Koschmieder at 5 % contrast, beta_haze = 2.996 / MOR - 13.558e-6 /m (floored
 // at 2e-7 /m), tau_haze = beta_haze x aerosol scale height.

@@ -4,7 +4,7 @@
 // GPU with it, and the accuracy tool measures the LUT tier with it.
 #pragma once
 
-#include "core/shader_twin.h"
+#include "core/atmosphere/shader_twin.h"
 
 namespace atmo::core {
 

@@ -1,4 +1,4 @@
-#include "core/atmosphere_model.h"
+#include "core/atmosphere/atmosphere_model.h"
 
 #include "core/spectral/colorimetry.h"
 #include "core/spectral/spectral_atmosphere.h"

@@ -16,7 +16,7 @@
 #include <atomic>
 #include <functional>
 
-#include "core/shader_twin.h"
+#include "core/atmosphere/shader_twin.h"
 
 namespace atmo::core {
 

@@ -1,4 +1,4 @@
-#include "core/sky_lighting.h"
+#include "core/sky/sky_lighting.h"
 
 #include <cmath>
 

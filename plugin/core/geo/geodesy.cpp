@@ -1,7 +1,8 @@
-#include "core/geodesy.h"
+#include "core/geo/geodesy.h"
 
 #include <GeographicLib/Geocentric.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace atmo::core {
@@ -38,6 +39,20 @@ double local_earth_radius_m(double latitude_deg) {
   double n = a / std::sqrt(w);               // prime vertical
   double m = a * (1.0 - e2) / (w * std::sqrt(w));  // meridian
   return std::sqrt(m * n);
+}
+
+glm::dmat4 ecef_from_enu_at(const Geodetic& origin) {
+  glm::dmat4 m(ecef_from_enu(origin.latitude_deg, origin.longitude_deg));
+  m[3] = glm::dvec4(ecef_from_geodetic(origin), 1.0);
+  return m;
+}
+
+HorizontalAngles horizontal_angles(const glm::dvec3& d) {
+  HorizontalAngles a;
+  a.elevation_rad = std::asin(std::clamp(d.z, -1.0, 1.0));
+  const double azimuth = std::atan2(d.x, d.y);
+  a.azimuth_rad = azimuth < 0.0 ? azimuth + 2.0 * M_PI : azimuth;
+  return a;
 }
 
 }  // namespace atmo::core

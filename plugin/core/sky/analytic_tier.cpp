@@ -1,4 +1,4 @@
-#include "core/analytic_tier.h"
+#include "core/sky/analytic_tier.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "core/sky_bodies.h"
+#include "core/astro/sky_bodies.h"
 
 #include <algorithm>
 #include <cmath>

@@ -10,7 +10,7 @@
 #include <optional>
 #include <string>
 
-#include "core/geodesy.h"
+#include "core/geo/geodesy.h"
 
 namespace atmo::core {
 

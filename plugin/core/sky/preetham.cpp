@@ -1,4 +1,4 @@
-#include "core/preetham.h"
+#include "core/sky/preetham.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@ namespace atmo::core {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 
-// Same air as core/atmosphere_model.cpp (Rayleigh at 550 nm, 8 km scale height;
+// Same air as core/atmosphere/atmosphere_model.cpp (Rayleigh at 550 nm, 8 km scale height;
 // Koschmieder at 5 % contrast; aerosol extinction floor).
 constexpr double kRayleigh550 = 13.558e-6;
 constexpr double kRayleighScaleHeightM = 8000.0;

@@ -5,8 +5,8 @@
 // hand-over is a cross-fade). Shared by the plugin and the accuracy tool.
 #pragma once
 
-#include "core/atmosphere_model.h"
-#include "core/preetham.h"
+#include "core/atmosphere/atmosphere_model.h"
+#include "core/sky/preetham.h"
 
 namespace atmo::core {
 

@@ -7,7 +7,7 @@
 #include <glm/glm.hpp>
 #include <string>
 
-#include "core/geodesy.h"
+#include "core/geo/geodesy.h"
 
 namespace atmo::core {
 

@@ -1,4 +1,4 @@
-#include "core/solar_position.h"
+#include "core/astro/solar_position.h"
 
 #include <cmath>
 

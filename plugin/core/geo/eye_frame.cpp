@@ -1,4 +1,4 @@
-#include "core/eye_frame.h"
+#include "core/geo/eye_frame.h"
 
 #include <cmath>
 

@@ -1,0 +1,99 @@
+// call.h — what every entry point shares: errors that name the function,
+// the exception barrier, handle checks, the order checks and the write-back
+// of an output struct the host may have sized for an older version.
+#pragma once
+
+#include <cstring>
+#include <new>
+#include <string>
+
+#include "abi/objects.h"
+#include "abi/struct_io.h"
+#include "atmo/atmo.h"
+
+namespace atmo::abi {
+
+// Records "function: message" on the context (or, with none, for
+// last_error(NULL)), logs it as an error and returns code.
+AtmoResult fail(AtmoContext_T* ctx, AtmoResult code, const char* function, const std::string& message);
+inline AtmoResult fail(AtmoContext_T* ctx, const char* function, const ReadError& e) {
+  return fail(ctx, e.code, function, e.message);
+}
+// The message last_error(NULL) returns: errors with no live context to hold them.
+const char* orphan_error();
+
+// No exception may cross the ABI.
+template <typename Body>
+AtmoResult guarded(AtmoContext_T* ctx, const char* function, Body&& body) noexcept {
+  try {
+    return body();
+  } catch (const std::bad_alloc&) {
+    return fail(ctx, ATMO_ERROR_OUT_OF_MEMORY, function, "out of memory");
+  } catch (const std::exception& e) {
+    return fail(ctx, ATMO_ERROR_INTERNAL, function, std::string("internal error: ") + e.what());
+  } catch (...) {
+    return fail(ctx, ATMO_ERROR_INTERNAL, function, "internal error: unknown exception");
+  }
+}
+
+// The handle if it is live, else null (live_view also records the error).
+AtmoContext_T* live_context(AtmoContext context);
+AtmoView_T* live_view(AtmoView view, const char* function);
+
+// The shapes of the entry points. with_context / with_view: the handle check
+// (an error names `function`) and the exception barrier around
+// body(ctx[, view]). context_call / view_call also read the host's struct
+// `in` of `type` (refused when NULL, undersized or of another type; `name`
+// names it in messages) and pass the copy to apply(ctx, [view,] s), which
+// validates it and applies it or fills the host's output.
+template <typename Body>
+AtmoResult with_context(AtmoContext context, const char* function, Body&& body) {
+  AtmoContext_T* ctx = live_context(context);
+  if (!ctx) return fail(nullptr, ATMO_ERROR_INVALID_HANDLE, function, "not a live context");
+  return guarded(ctx, function, [&]() -> AtmoResult { return body(ctx); });
+}
+
+template <typename Body>
+AtmoResult with_view(AtmoView view_handle, const char* function, Body&& body) {
+  AtmoView_T* view = live_view(view_handle, function);
+  if (!view) return ATMO_ERROR_INVALID_HANDLE;
+  AtmoContext_T* ctx = view->context;
+  return guarded(ctx, function, [&]() -> AtmoResult { return body(ctx, view); });
+}
+
+template <typename T, typename Apply>
+AtmoResult context_call(AtmoContext context, const char* function, const T* in, AtmoStructType type, const char* name,
+                        Apply&& apply) {
+  return with_context(context, function, [&](AtmoContext_T* ctx) -> AtmoResult {
+    T s;
+    ReadError e = read_struct(in, type, name, &s);
+    if (e.code) return fail(ctx, function, e);
+    return apply(ctx, s);
+  });
+}
+
+template <typename T, typename Apply>
+AtmoResult view_call(AtmoView view_handle, const char* function, const T* in, AtmoStructType type, const char* name,
+                     Apply&& apply) {
+  return with_view(view_handle, function, [&](AtmoContext_T* ctx, AtmoView_T* view) -> AtmoResult {
+    T s;
+    ReadError e = read_struct(in, type, name, &s);
+    if (e.code) return fail(ctx, function, e);
+    return apply(ctx, view, s);
+  });
+}
+
+// ATMO_SUCCESS when the calls a view's output needs came first: gl_init (when
+// `needs_gl`), set_frame and set_view; else CALL_OUT_OF_ORDER naming the missing one.
+AtmoResult require_frame_and_view(AtmoContext_T* ctx, const AtmoView_T& view, const char* function, bool needs_gl);
+
+// Copies what the host's struct can hold (its header.struct_size, already
+// checked to be at least version 1) and keeps the host's header.
+template <typename T>
+void write_back(T* out, T value) {
+  const size_t n = out->header.struct_size < sizeof(T) ? out->header.struct_size : sizeof(T);
+  value.header = out->header;
+  std::memcpy(static_cast<void*>(out), &value, n);
+}
+
+}  // namespace atmo::abi

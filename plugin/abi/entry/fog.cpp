@@ -1,0 +1,128 @@
+// fog.cpp — set_fog, set_lights, the glow pass and the host's lit surfaces
+// (get_fog_lighting); the physics is in core/fog (docs/FOG.md).
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "abi/entry/call.h"
+#include "abi/entry/entry_points.h"
+#include "abi/entry/passes.h"
+#include "abi/scene_inputs.h"
+#include "abi/validation.h"
+#include "abi/world_frame.h"
+
+namespace atmo::abi::entry {
+
+// The glow threshold of a frame (core/fog/fog_frame.h), from the view's exposure.
+namespace {
+
+double glow_threshold(const AtmoContext_T* ctx, const AtmoView_T* view) {
+  const double exposure = view->state.exposure_scale > 0.0 ? view->state.exposure_scale : kDefaultExposureScale;
+  return fog::glow_threshold_cd_m2(ctx->lights.glow_threshold_cd_m2, exposure);
+}
+
+// The view's lights in the fog, made once per set_view / set_fog / set_lights.
+const fog::FogFrame& view_fog_frame(AtmoContext_T* ctx, AtmoView_T* view) {
+  if (!view->fog_frame || view->fog_frame_context_serial != ctx->fog_serial ||
+      view->fog_frame_view_serial != view->state_serial) {
+    view->fog_frame = fog::make_fog_frame(ctx->fog, ctx->lights, view->eye, glow_threshold(ctx, view));
+    view->fog_frame_context_serial = ctx->fog_serial;
+    view->fog_frame_view_serial = view->state_serial;
+  }
+  return *view->fog_frame;
+}
+
+}  // namespace
+
+AtmoResult fog_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene, const gl::PassInputs& inputs) {
+  const fog::FogFrame& frame = view_fog_frame(ctx, view);
+  gl::FogDrawInputs in;
+  in.frame = &frame;
+  in.extinction_per_m = static_cast<float>(ctx->fog.optics.extinction_per_m);
+  in.albedo = static_cast<float>(ctx->fog.optics.albedo);
+  const core::SkyLighting& sky = view_sky_lighting(ctx, view, scene);
+  in.ambient_cd_m2 = glm::vec3(fog::ambient_radiance_cd_m2(ctx->fog.optics, sky, scene, ctx->atmosphere.ground_albedo));
+  const double tan_half = 1.0 / std::max(std::abs(view->state.clip_from_view[5]), 1e-12);
+  in.min_sin = static_cast<float>(fog::glow_min_sin(tan_half, view->state.viewport[3]));
+  std::string error;
+  if (!ctx->fog_renderer.upload_tables(ctx->fog.airlight, ctx->fog.surface, ctx->fog.version, &error) ||
+      !ctx->fog_renderer.draw(ctx->renderer, inputs, in, &error))
+    return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_LIGHT_GLOWS)", error);
+  const gl::FogDrawStats& st = ctx->fog_renderer.last_stats();
+  ctx->services.log(ATMO_LOG_DEBUG, "fog: " + std::to_string(st.lights) + " lights, " + std::to_string(st.glows_drawn) +
+                                        " glows drawn over " +
+                                        std::to_string(static_cast<long long>(st.covered_pixels)) + " pixels");
+  return ATMO_SUCCESS;
+}
+
+AtmoResult set_fog(AtmoContext context, const AtmoFogState* state) {
+  if (!state)  // no fog
+    return with_context(context, "set_fog", [&](AtmoContext_T* ctx) -> AtmoResult {
+      ctx->fog.optics = fog::FogOptics{};
+      ctx->fog.optics.extinction_per_m = 0.0;
+      ++ctx->fog_serial;
+      return ATMO_SUCCESS;
+    });
+  return context_call(context, "set_fog", state, ATMO_TYPE_FOG_STATE, "AtmoFogState",
+                      [&](AtmoContext_T* ctx, const AtmoFogState& s) -> AtmoResult {
+                        Verdict v = set_fog_state(s, &ctx->fog);
+                        if (!v.ok()) return fail(ctx, v.code, "set_fog", v.message);
+                        ++ctx->fog_serial;
+                        return ATMO_SUCCESS;
+                      });
+}
+
+AtmoResult set_lights(AtmoContext context, const AtmoLightsState* state) {
+  if (!state)  // no lights
+    return with_context(context, "set_lights", [&](AtmoContext_T* ctx) -> AtmoResult {
+      ctx->lights = fog::FogLights{};
+      ++ctx->fog_serial;
+      return ATMO_SUCCESS;
+    });
+  return context_call(context, "set_lights", state, ATMO_TYPE_LIGHTS_STATE, "AtmoLightsState",
+                      [&](AtmoContext_T* ctx, const AtmoLightsState& s) -> AtmoResult {
+                        Verdict v = set_lights_state(s, &ctx->lights);
+                        if (!v.ok()) return fail(ctx, v.code, "set_lights", v.message);
+                        ++ctx->fog_serial;
+                        return ATMO_SUCCESS;
+                      });
+}
+
+AtmoResult get_fog_lighting(AtmoView view_handle, AtmoFogLighting* out) {
+  return view_call(
+      view_handle, "get_fog_lighting", out, ATMO_TYPE_FOG_LIGHTING, "AtmoFogLighting",
+      [&](AtmoContext_T* ctx, AtmoView_T* view, AtmoFogLighting& f) -> AtmoResult {
+        if (AtmoResult r = require_frame_and_view(ctx, *view, "get_fog_lighting", true)) return r;
+        AtmoResult result = ATMO_STATUS_NOTHING_TO_DRAW;
+        std::memset(reinterpret_cast<char*>(&f) + sizeof(f.header), 0, sizeof(f) - sizeof(f.header));
+        if (ctx->fog.enabled() && !ctx->lights.lights.empty()) {
+          const double threshold = glow_threshold(ctx, view);
+          const fog::FogFrame& frame = view_fog_frame(ctx, view);
+          // The view's world axes from the eye's ENU.
+          const glm::dmat3 world_from_ecef = glm::transpose(
+              glm::dmat3(ecef_from_world_frame(view->state.world_frame, view->state.world_origin_geodetic)));
+          const glm::dmat3 world_from_enu = world_from_ecef * view->eye.ecef_from_enu;
+          const std::vector<float> range = fog::surface_light_ranges(ctx->fog, frame, threshold);
+          std::string error;
+          if (!ctx->fog_renderer.upload_tables(ctx->fog.airlight, ctx->fog.surface, ctx->fog.version, &error) ||
+              !ctx->fog_renderer.upload_host_lights(frame, world_from_enu, range, &error))
+            return fail(ctx, ATMO_ERROR_GL, "get_fog_lighting", error);
+          f.light_count = static_cast<uint32_t>(frame.lights.size());
+          f.light_texture = ctx->fog_renderer.light_texture();
+          f.surface_table = ctx->fog_renderer.surface_table();
+          f.surface_table_size[0] = ctx->fog.surface.width;
+          f.surface_table_size[1] = ctx->fog.surface.height / fog::kSurfaceLayers;
+          f.medium[0] = ctx->fog.optics.extinction_per_m;
+          f.medium[1] = ctx->fog.optics.albedo;
+          f.medium[2] = frame.top_above_eye_m;
+          for (int i = 0; i < 4; ++i) f.diffusion[i] = frame.diffusion[i];
+          const glm::dvec3 up = world_from_enu * glm::dvec3(0.0, 0.0, 1.0);
+          for (int i = 0; i < 3; ++i) f.up_world[i] = up[i];
+          result = ATMO_SUCCESS;
+        }
+        write_back(out, f);
+        return result;
+      });
+}
+
+}  // namespace atmo::abi::entry

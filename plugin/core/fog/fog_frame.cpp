@@ -1,0 +1,123 @@
+#include "core/fog/fog_frame.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/fog/fog_twin.h"
+
+namespace atmo::fog {
+
+void FogMedium::apply(const FogOptics& o, int table_size) {
+  if (o.extinction_per_m > 0.0 && (o.phase_g != tables_phase_g || table_size != tables_airlight_size)) {
+    airlight = build_airlight_table(table_size, o.phase_g);
+    surface = build_surface_table(32, 32, o.phase_g);
+    bound = std::make_unique<GlowBound>(o.phase_g);
+    tables_phase_g = o.phase_g;
+    tables_airlight_size = table_size;
+    ++version;
+  }
+  optics = o;
+  airlight_table_size = table_size;
+}
+
+// d(omega) = 2 pi d(cos): the mean over cos.
+double mean_cone_profile(double cos_inner, double cos_outer) {
+  const int n = 512;
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const float c = static_cast<float>(-1.0 + 2.0 * (i + 0.5) / n);
+    sum += twin::atmo_fog_cone(glm::vec3(0.0f, 0.0f, 1.0f), static_cast<float>(cos_inner),
+                               static_cast<float>(cos_outer), glm::vec3(std::sqrt(1.0f - c * c), 0.0f, c));
+  }
+  return sum / n;
+}
+
+FogFrame make_fog_frame(const FogMedium& fog, const FogLights& lights, const core::EyeFrame& eye,
+                        double threshold_cd_m2) {
+  FogFrame f;
+  const FogOptics& o = fog.optics;
+  const double top = std::isfinite(o.top_height_m) ? o.top_height_m - eye.eye.height_m : INFINITY;
+  f.top_above_eye_m = std::isfinite(top) ? static_cast<float>(top) : kNoTop;
+  const glm::dmat3 enu_from_ecef = glm::transpose(eye.ecef_from_enu);
+  // The diffusion term's layer: from the ground, taken as the lowest of the eye and the lights (lights stand
+  // on the ground), to the top (docs/FOG.md).
+  double floor_above_eye = 0.0;
+  for (const FogLight& l : lights.lights)
+    floor_above_eye = std::min(floor_above_eye, (enu_from_ecef * (l.position_ecef_m - eye.eye_ecef_m)).z);
+  const double depth = std::isfinite(top) ? std::max(top - floor_above_eye, 1.0) : INFINITY;
+  const double tr = o.transport_per_m(), mu = o.diffusion_decay_per_m(depth);
+  const double cap = !o.multiple_scattering ? 0.0 : std::isfinite(depth) ? o.extinction_per_m * depth : 1e30;
+  f.diffusion = glm::vec4(float(tr), float(mu), float(kHandoverRate), float(cap));
+  f.lights.resize(lights.lights.size());
+  glm::dvec3 fluence(0.0);
+  glm::dmat3 flux(0.0);
+  for (size_t i = 0; i < lights.lights.size(); ++i) {
+    const FogLight& l = lights.lights[i];
+    FrameLight& fl = f.lights[i];
+    const glm::dvec3 rel = enu_from_ecef * (l.position_ecef_m - eye.eye_ecef_m);
+    fl.position_enu_m = glm::vec3(rel);
+    fl.intensity_cd = glm::vec3(l.intensity_cd);
+    fl.axis_enu = glm::vec3(enu_from_ecef * l.axis_ecef);
+    fl.cos_inner = static_cast<float>(l.cos_inner);
+    fl.cos_outer = static_cast<float>(l.cos_outer);
+    // The part of the eye-light segment inside the layer (heights in the tangent plane at the eye).
+    const double beta =
+        o.extinction_per_m * twin::atmo_fog_inside_fraction(0.0f, fl.position_enu_m.z, f.top_above_eye_m);
+    fl.beta_per_m = static_cast<float>(beta);
+    const double d = glm::length(rel);
+    const double peak = std::max({l.intensity_cd.x, l.intensity_cd.y, l.intensity_cd.z});
+    fl.glow_radius_rad = fog.bound ? static_cast<float>(fog.bound->radius_rad(beta, o.albedo, std::max(d, 1e-3), peak,
+                                                                              threshold_cd_m2))
+                                   : 0.0f;
+    if (o.multiple_scattering && d > 0.0) {
+      const glm::vec2 p1 = twin::atmo_fog_diffusion_light(f.diffusion, static_cast<float>(d),
+                                                                static_cast<float>(beta * d), false);
+      const double phi = p1.x, flux_magnitude = p1.y;
+      const glm::dvec3 towards = rel / d;
+      const glm::dvec3 power = l.intensity_cd * l.mean_profile;
+      fluence += phi * power;
+      for (int c = 0; c < 3; ++c) flux[c] += flux_magnitude * power[c] * towards;
+    }
+  }
+  f.fluence = glm::vec3(fluence);
+  f.flux_towards_lights = glm::mat3(flux);
+  return f;
+}
+
+std::vector<float> surface_light_ranges(const FogMedium& fog, const FogFrame& frame,
+                                        double threshold_cd_m2) {
+  std::vector<float> range(frame.lights.size(), 0.0f);
+  const glm::vec2 size(static_cast<float>(fog.surface.width),
+                       static_cast<float>(fog.surface.height / kSurfaceLayers));
+  for (size_t i = 0; i < frame.lights.size(); ++i) {
+    const FrameLight& l = frame.lights[i];
+    const double peak = std::max({l.intensity_cd.x, l.intensity_cd.y, l.intensity_cd.z});
+    if (!(peak > 0.0)) continue;
+    // Distances 1 m .. 1000 km, 8 per octave; the range is the step past the last one above the threshold.
+    for (int k = 0; k <= 160; ++k) {
+      const float r = std::exp2(static_cast<float>(k) / 8.0f);
+      const float beta = l.beta_per_m;
+      const glm::vec2 t = twin::atmo_fog_surface_terms(fog.surface, size, beta, static_cast<float>(fog.optics.albedo),
+                                                            frame.diffusion, r, beta * r, 1.0f, 1.0f, 1.0f);
+      if (peak * t.x / M_PI >= threshold_cd_m2) range[i] = std::exp2(static_cast<float>(k + 1) / 8.0f);
+    }
+  }
+  return range;
+}
+
+double glow_threshold_cd_m2(double host_threshold_cd_m2, double exposure_scale) {
+  if (host_threshold_cd_m2 > 0.0) return host_threshold_cd_m2;
+  return 1.0 / (2000.0 * exposure_scale);
+}
+
+double glow_min_sin(double tan_half_fov_y, double rows) { return 0.5672 * tan_half_fov_y / rows; }
+
+glm::dvec3 ambient_radiance_cd_m2(const FogOptics& optics, const core::SkyLighting& sky, const core::Scene& scene,
+                                  double ground_albedo) {
+  const glm::dvec3 sun = glm::dvec3(scene.atmosphere.sun_illuminance_lux) * std::max(scene.sun_direction_enu.z, 0.0);
+  const glm::dvec3 moon = scene.bodies.moon_illuminance_rgb_lux * std::max(scene.bodies.moon_enu.z, 0.0);
+  const glm::dvec3 horizontal = sky.horizontal_illuminance_lux + sun + moon;
+  return optics.albedo * 0.5 * (sky.average_radiance + ground_albedo * horizontal / M_PI);
+}
+
+}  // namespace atmo::fog

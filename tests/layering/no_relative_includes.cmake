@@ -1,0 +1,18 @@
+# Fails when a plugin source reaches another layer by a relative path
+# (#include "../gl/renderer.h"), which the include roots cannot refuse.
+file(GLOB_RECURSE sources ${PLUGIN_DIR}/*.h ${PLUGIN_DIR}/*.cpp)
+set(found "")
+foreach(f ${sources})
+  file(STRINGS ${f} lines REGEX "^[ \t]*#[ \t]*include[ \t]*\"\\.\\./")
+  if(lines)
+    string(APPEND found "${f}: ${lines}\n")
+  endif()
+endforeach()
+list(LENGTH sources n)
+if(n EQUAL 0)
+  message(FATAL_ERROR "no sources under ${PLUGIN_DIR}")
+endif()
+if(found)
+  message(FATAL_ERROR "relative includes cross the layers' include roots:\n${found}")
+endif()
+message(STATUS "${n} plugin sources, none includes by a relative path")
