@@ -114,9 +114,10 @@ AtmoResult create_context(const AtmoContextCreateInfo* info_in, AtmoContext* out
     AtmoContext_T* ctx;
     try {
       ctx = new (memory) AtmoContext_T();
-      ctx->services = services;
-      ctx->asset_root = info.asset_root ? info.asset_root : atmo::abi::plugin_directory();
       ctx->application_name = info.application_name ? info.application_name : "";
+      ctx->services = services;
+      ctx->services.set_application_name(ctx->application_name);
+      ctx->asset_root = info.asset_root ? info.asset_root : atmo::abi::plugin_directory();
       ctx->seed = info.seed;
     } catch (...) {
       services.deallocate(memory);
@@ -464,6 +465,13 @@ AtmoResult set_clouds(AtmoContext context, const AtmoCloudsState* state) {
   });
 }
 
+// What a pass's log lines begin with: the host's frame number and the view's
+// channel (AtmoFrameState.host_frame_number, AtmoViewCreateInfo.channel_id;
+// they name the frame in logs and change no result).
+std::string pass_log_prefix(const AtmoContext_T* ctx, const AtmoView_T* view) {
+  return "frame " + std::to_string(ctx->frame_number) + ", channel " + std::to_string(view->channel_id) + ": ";
+}
+
 AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core::Scene& scene,
                        const atmo::gl::PassInputs& inputs) {
   atmo::abi::ContextClouds& c = ctx->clouds;
@@ -487,7 +495,7 @@ AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core::S
   if (!ctx->cloud_renderer.draw(ctx->renderer, inputs, frame, &drawn, &error))
     return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_CLOUDS)", error);
   const atmo::gl::CloudDrawStats& st = ctx->cloud_renderer.last_stats();
-  ctx->services.log(ATMO_LOG_DEBUG, "clouds: " + std::to_string(st.in_view) + " in view, " +
+  ctx->services.log(ATMO_LOG_DEBUG, pass_log_prefix(ctx, view) + "clouds: " + std::to_string(st.in_view) + " in view, " +
                                         std::to_string(st.impostors_drawn) + " from impostors (" +
                                         std::to_string(st.impostors_created) + " new, " +
                                         std::to_string(st.impostors_updated) + " re-rendered, " +
@@ -538,7 +546,7 @@ AtmoResult fog_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core::Scen
       !ctx->fog_renderer.draw(ctx->renderer, inputs, in, &error))
     return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_LIGHT_GLOWS)", error);
   const atmo::gl::FogDrawStats& st = ctx->fog_renderer.last_stats();
-  ctx->services.log(ATMO_LOG_DEBUG, "fog: " + std::to_string(st.lights) + " lights, " +
+  ctx->services.log(ATMO_LOG_DEBUG, pass_log_prefix(ctx, view) + "fog: " + std::to_string(st.lights) + " lights, " +
                                         std::to_string(st.glows_drawn) + " glows drawn over " +
                                         std::to_string(static_cast<long long>(st.covered_pixels)) + " pixels");
   return ATMO_SUCCESS;
