@@ -40,6 +40,13 @@ AtmoViewState view_at(double lat, double lon, double height, double heading, dou
   return vs;
 }
 
+void set_utc(Fixture& f, double utc_posix_s, uint64_t host_frame_number = 0) {
+  auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+  frame.utc_posix_s = utc_posix_s;
+  frame.host_frame_number = host_frame_number;
+  f.context->set_frame(frame);
+}
+
 size_t bad_pixels(const atmo::support::Image& img) {
   size_t bad = 0;
   for (size_t i = 0; i < img.pixel_count(); ++i)
@@ -190,9 +197,7 @@ TEST(Robustness, EcefWorldGivesTheSameImageAsALocalWorld) {
 // 1e300 element was accepted and gave NaN directions.
 TEST(Robustness, DegenerateViewMatricesAreRefusedAndChangeNothing) {
   Fixture f;
-  auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
-  frame.utc_posix_s = 1718964000.0;
-  f.context->set_frame(frame);
+  set_utc(f, 1718964000.0);
   const AtmoViewState good = view_at(47.26, 11.35, 900.0, 30.0, 5.0, 0);
   auto render = [&] {
     f.target->bind();
@@ -241,9 +246,7 @@ TEST(Robustness, DegenerateViewMatricesAreRefusedAndChangeNothing) {
 // perspective from 1e-4 m to 1e7 m are accepted and draw finite images.
 TEST(Robustness, RoundedViewsAndExtremeButSoundProjectionsAreAccepted) {
   Fixture f;
-  auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
-  frame.utc_posix_s = 1718964000.0;
-  f.context->set_frame(frame);
+  set_utc(f, 1718964000.0);
   AtmoViewState rounded = view_at(47.26, 11.35, 900.0, 30.0, 5.0, 0);
   for (int i = 0; i < 12; ++i) rounded.view_from_world[i] += (i % 2 ? 1e-6 : -1e-6);
   AtmoViewState infinite = view_at(47.26, 11.35, 900.0, 30.0, 5.0, 0);
@@ -273,10 +276,10 @@ struct LayerArray {
   LayerArray(uint32_t count, uint32_t stride, uint32_t layer_size) : bytes(size_t(count) * stride) {
     AtmoCloudLayer l = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
     l.type = ATMO_CLOUD_CUMULUS;
-    l.coverage_oktas = 3;
+    l.coverage_oktas = 1;
     l.base_m = 1200.0;
-    l.top_m = 2000.0;
-    l.area_size_m = 2000.0;
+    l.top_m = 1600.0;
+    l.area_size_m = 500.0;  // the smallest: a quick build
     for (uint32_t i = 0; i < count; ++i) std::memcpy(&bytes[size_t(i) * stride], &l, std::min<size_t>(sizeof(l), stride));
     state.origin_geodetic[0] = 47.26;
     state.origin_geodetic[1] = 11.35;
@@ -303,6 +306,34 @@ struct LightArray {
     state.lights = reinterpret_cast<const AtmoLightPoint*>(bytes.data());
     state.light_count = count;
     state.light_size = light_size;
+  }
+};
+
+struct CountingAllocator {
+  int allocations = 0, deallocations = 0;
+  size_t bytes = 0;
+  std::vector<void*> live;
+  static void* allocate(void* user, size_t size, size_t alignment) {
+    auto* a = static_cast<CountingAllocator*>(user);
+    void* p = std::aligned_alloc(alignment, (size + alignment - 1) / alignment * alignment);
+    ++a->allocations;
+    a->bytes += size;
+    a->live.push_back(p);
+    return p;
+  }
+  static void deallocate(void* user, void* p) {
+    auto* a = static_cast<CountingAllocator*>(user);
+    ++a->deallocations;
+    a->live.erase(std::find(a->live.begin(), a->live.end(), p));
+    std::free(p);
+  }
+};
+
+struct LogLines {
+  std::vector<std::string> lines;
+  static void log(void* user, int32_t, const char* message) { static_cast<LogLines*>(user)->lines.push_back(message); }
+  bool has(const std::string& text) const {
+    return std::any_of(lines.begin(), lines.end(), [&](const std::string& l) { return l.find(text) != std::string::npos; });
   }
 };
 
@@ -470,30 +501,6 @@ TEST(Robustness, TheHostFileServiceIsBoundedByTheBufferAndTheSizeCap) {
   EXPECT_EQ(files.closes, 3);
 }
 
-namespace {
-
-struct CountingAllocator {
-  int allocations = 0, deallocations = 0;
-  size_t bytes = 0;
-  std::vector<void*> live;
-  static void* allocate(void* user, size_t size, size_t alignment) {
-    auto* a = static_cast<CountingAllocator*>(user);
-    void* p = std::aligned_alloc(alignment, (size + alignment - 1) / alignment * alignment);
-    ++a->allocations;
-    a->bytes += size;
-    a->live.push_back(p);
-    return p;
-  }
-  static void deallocate(void* user, void* p) {
-    auto* a = static_cast<CountingAllocator*>(user);
-    ++a->deallocations;
-    a->live.erase(std::find(a->live.begin(), a->live.end(), p));
-    std::free(p);
-  }
-};
-
-}  // namespace
-
 // What atmo.h says the host allocator serves: each context and view object,
 // given back when destroyed; the tables and the frame's work use the C++ heap
 // (so drawing adds no allocation through it).
@@ -507,9 +514,7 @@ TEST(Robustness, TheHostAllocatorServesTheContextAndViewObjectsAndBalances) {
   {
     atmo::View second(*f.context, 1);
     EXPECT_EQ(counter.allocations, 3);
-    auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
-    frame.utc_posix_s = 1718964000.0;
-    f.context->set_frame(frame);
+    set_utc(f, 1718964000.0);
     second.set(view_at(47.26, 11.35, 900.0, 30.0, 5.0, 0));
     f.target->bind();
     EXPECT_EQ(second.render(ATMO_PASS_SKY), ATMO_SUCCESS);
@@ -531,18 +536,6 @@ TEST(Robustness, TheHostAllocatorServesTheContextAndViewObjectsAndBalances) {
   f.services.user = nullptr;
 }
 
-namespace {
-
-struct LogLines {
-  std::vector<std::string> lines;
-  static void log(void* user, int32_t, const char* message) { static_cast<LogLines*>(user)->lines.push_back(message); }
-  bool has(const std::string& text) const {
-    return std::any_of(lines.begin(), lines.end(), [&](const std::string& l) { return l.find(text) != std::string::npos; });
-  }
-};
-
-}  // namespace
-
 // host_frame_number and channel_id name the frame and the view in the passes'
 // log lines (atmo.h); application_name names the application in the stderr
 // fallback's lines. Before, all three were stored and never used.
@@ -553,14 +546,11 @@ TEST(Robustness, FrameNumberChannelAndApplicationNameAppearInTheLogs) {
   f.services.log = &LogLines::log;
   f.fresh_context();
   atmo::View view(*f.context, 7);
-  auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
-  frame.utc_posix_s = 1719010000.0;  // night
-  frame.host_frame_number = 4242;
-  f.context->set_frame(frame);
+  set_utc(f, 1719010000.0 /* night */, 4242);
   auto fog = atmo::make<AtmoFogState>(ATMO_TYPE_FOG_STATE);
   fog.visibility_m = 400.0;
   f.context->set_fog(fog);
-  LightArray lights(1, sizeof(AtmoLightPoint), 0);
+  LightArray lights(1, sizeof(AtmoLightPoint), sizeof(AtmoLightPoint));
   f.context->set_lights(lights.state);
   view.set(view_at(47.26, 11.35, 2.0, 0.0, 0.0, 0));
   f.target->bind();

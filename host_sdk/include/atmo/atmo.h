@@ -316,9 +316,14 @@ typedef struct AtmoViewState {
   double world_origin_geodetic[3]; /* origin of the ENU world frame (lat deg, lon deg, h m); ATMO_WORLD_ENU only */
 
   /* The host's view matrix. Only its rotation is used (the eye is given above),
-     so a host whose world is ECEF loses no precision to a huge translation. */
+     so a host whose world is ECEF loses no precision to a huge translation.
+     Must be rigid: the upper 3x3 a rotation (R R^T = I to 1e-3 per entry,
+     det > 0: no scale, shear or mirror), the bottom row (0, 0, 0, 1) to 1e-3,
+     the translation finite; else ATMO_ERROR_OUT_OF_RANGE. */
   double view_from_world[16];
-  /* The host's projection matrix (perspective, finite or infinite far plane). */
+  /* The host's projection matrix (perspective, finite or infinite far plane).
+     Must be invertible with condition number |P|inf |P^-1|inf <= 1e10; else
+     ATMO_ERROR_OUT_OF_RANGE. */
   double clip_from_view[16];
 
   /* Render target: the plugin draws into the framebuffer bound when a pass is
