@@ -495,7 +495,8 @@ AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const atmo::core::S
   if (!ctx->cloud_renderer.draw(ctx->renderer, inputs, frame, &drawn, &error))
     return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_CLOUDS)", error);
   const atmo::gl::CloudDrawStats& st = ctx->cloud_renderer.last_stats();
-  ctx->services.log(ATMO_LOG_DEBUG, pass_log_prefix(ctx, view) + "clouds: " + std::to_string(st.in_view) + " in view, " +
+  ctx->services.log(ATMO_LOG_DEBUG, pass_log_prefix(ctx, view) + "clouds: " + std::to_string(st.in_view) +
+                                        " in view, " +
                                         std::to_string(st.impostors_drawn) + " from impostors (" +
                                         std::to_string(st.impostors_created) + " new, " +
                                         std::to_string(st.impostors_updated) + " re-rendered, " +

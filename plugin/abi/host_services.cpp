@@ -24,7 +24,8 @@ void* fallback_gl_proc(void* /*user*/, const char* name) {
 }
 
 std::string too_large(const std::string& path) {
-  return "'" + path + "' is larger than " + std::to_string(kMaxFileBytes) + " bytes (ATMO_FILE_SIZE_MAX), the most a file may hold";
+  return "'" + path + "' is larger than " + std::to_string(kMaxFileBytes) +
+         " bytes (ATMO_FILE_SIZE_MAX), the most a file may hold";
 }
 
 const char* severity_name(AtmoLogSeverity s) {

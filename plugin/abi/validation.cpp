@@ -94,10 +94,9 @@ bool rigid_view(Verdict* v, const glm::dmat4& m) {
       const double e = std::abs(gram[c][r] - (c == r ? 1.0 : 0.0));
       if (std::isnan(e) || e > worst) worst = e;  // a NaN stays
     }
-  const std::string tolerance = number(kRotationTolerance);
   if (!(worst <= kRotationTolerance)) {
     *v = {ATMO_ERROR_OUT_OF_RANGE, "AtmoViewState.view_from_world: the upper 3x3 is not a rotation (max |R R^T - I| = " +
-                                       number(worst) + ", tolerance " + tolerance + ")"};
+                                       number(worst) + ", tolerance " + number(kRotationTolerance) + ")"};
     return false;
   }
   if (!(glm::determinant(rot) > 0.0)) {
@@ -109,7 +108,8 @@ bool rigid_view(Verdict* v, const glm::dmat4& m) {
   for (int c = 0; c < 4; ++c) {
     if (!(std::abs(bottom[c]) <= kRotationTolerance)) {
       *v = {ATMO_ERROR_OUT_OF_RANGE, "AtmoViewState.view_from_world[" + std::to_string(c * 4 + 3) + "] = " +
-                                         number(c == 3 ? m[3][3] : bottom[c]) + ": the bottom row must be (0, 0, 0, 1)"};
+                                         number(c == 3 ? m[3][3] : bottom[c]) +
+                                         ": the bottom row must be (0, 0, 0, 1)"};
       return false;
     }
   }

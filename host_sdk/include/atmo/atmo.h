@@ -207,7 +207,8 @@ typedef struct AtmoContextCreateInfo {
   AtmoStructHeader header;        /* ATMO_TYPE_CONTEXT_CREATE_INFO */
   const AtmoHostServices* services; /* may be NULL: all fallbacks. Copied; need not outlive the call. */
   const char* asset_root;         /* UTF-8 directory for plugin data files; NULL: next to libatmo.so */
-  const char* application_name;   /* named in the stderr log fallback's lines ("[atmo] name: error: ..."); may be NULL */
+  const char* application_name;   /* named in the stderr log fallback's lines ("[atmo] name: error: ...");
+                                     may be NULL */
   uint64_t seed;                  /* seed of every random stream (clouds, scintillation); 0 is a valid seed */
 } AtmoContextCreateInfo;
 
@@ -243,7 +244,8 @@ typedef struct AtmoAtmosphereState {
    need TT, and UT1 = UTC + dut1_s for the Earth's rotation. */
 typedef struct AtmoFrameState {
   AtmoStructHeader header;      /* ATMO_TYPE_FRAME_STATE */
-  uint64_t host_frame_number;   /* named in the passes' log lines; no cache or result depends on it (they follow the state) */
+  uint64_t host_frame_number;   /* named in the passes' log lines; no cache or result depends on it
+                                   (they follow the state) */
   double utc_posix_s;           /* simulation time, see above. Must be finite. */
   double dut1_s;                /* UT1 - UTC in seconds, |dut1| < 1 (IERS Bulletin A); 0 is fine for rendering */
 } AtmoFrameState;
