@@ -1,7 +1,11 @@
 // CPU costs of the core and of the ABI's per-frame calls.
 #include <benchmark/benchmark.h>
 
+#include <atomic>
+#include <chrono>
 #include <glm/gtc/matrix_transform.hpp>
+#include <thread>
+#include <vector>
 
 #include "atmo/atmo.hpp"
 #include "core/atmosphere/atmosphere_model.h"
@@ -41,14 +45,8 @@ void BM_SolarPosition(benchmark::State& state) {
 }
 BENCHMARK(BM_SolarPosition);
 
-// set_frame + set_view + get_lighting through the ABI: the per-channel,
-// per-frame CPU cost a host pays (no GL).
-void BM_AbiPerFrameCalls(benchmark::State& state) {
-  atmo::Plugin plugin(ATMO_PLUGIN_PATH);
-  atmo::Context context(plugin);
-  atmo::View view(context, 0);
-  auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
-  frame.utc_posix_s = 1718964000.0;
+// 1 km over (0° N, 0° E) in ECEF, looking east, 1280x720.
+AtmoViewState ecef_view_state() {
   auto vs = atmo::make<AtmoViewState>(ATMO_TYPE_VIEW_STATE);
   vs.eye_kind = ATMO_POSITION_ECEF;
   vs.eye_ecef_m[0] = 6378137.0 + 1000.0;
@@ -61,8 +59,31 @@ void BM_AbiPerFrameCalls(benchmark::State& state) {
     }
   vs.viewport[2] = 1280;
   vs.viewport[3] = 720;
-  context.set_frame(frame);
-  view.set(vs);
+  return vs;
+}
+
+// set_frame + set_view + get_lighting through the ABI: the per-channel,
+// per-frame CPU cost a host pays (no GL).
+// The plugin with one context and view at noon, set to ecef_view_state().
+struct AbiSession {
+  atmo::Plugin plugin{ATMO_PLUGIN_PATH};
+  atmo::Context context{plugin};
+  atmo::View view{context, 0};
+  AtmoFrameState frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+  AtmoViewState vs = ecef_view_state();
+  AbiSession() {
+    frame.utc_posix_s = 1718964000.0;
+    context.set_frame(frame);
+    view.set(vs);
+  }
+};
+
+void BM_AbiPerFrameCalls(benchmark::State& state) {
+  AbiSession abi;
+  atmo::Context& context = abi.context;
+  atmo::View& view = abi.view;
+  AtmoFrameState& frame = abi.frame;
+  AtmoViewState& vs = abi.vs;
   view.lighting();  // builds the transmittance table once
   for (auto _ : state) {
     frame.utc_posix_s += 1.0 / 60.0;
@@ -73,6 +94,44 @@ void BM_AbiPerFrameCalls(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_AbiPerFrameCalls)->Unit(benchmark::kMicrosecond);
+
+// How long a new air takes to show (docs/ABI.md "A changed air shows once its
+// tables are built"): set_atmosphere, then get_lighting every millisecond (a
+// fast host's frames) until the Sun's illuminance is the new air's. The air
+// alternates between 40 km and 5 km visibility. Arg: threads kept busy
+// meanwhile (the machine's load). Wall time per iteration is the latency.
+void BM_NewAirLatency(benchmark::State& state) {
+  AbiSession abi;
+  double previous = abi.view.lighting().sun_illuminance_lux[1];  // the first tables: built on this thread
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> load;
+  for (int i = 0; i < state.range(0); ++i)
+    load.emplace_back([&stop] {
+      volatile double x = 1.0;
+      while (!stop.load(std::memory_order_relaxed)) x = x * 1.0000001 + 1e-9;
+    });
+  bool clear = true;
+  int polls = 0;
+  for (auto _ : state) {
+    clear = !clear;
+    auto air = atmo::make<AtmoAtmosphereState>(ATMO_TYPE_ATMOSPHERE_STATE);
+    air.visibility_m = clear ? 40000.0 : 5000.0;
+    abi.context.set_atmosphere(air);
+    for (;;) {
+      ++polls;
+      const double now = abi.view.lighting().sun_illuminance_lux[1];
+      if (now != previous) {
+        previous = now;
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  }
+  stop = true;
+  for (std::thread& t : load) t.join();
+  state.counters["polls"] = benchmark::Counter(polls, benchmark::Counter::kAvgIterations);
+}
+BENCHMARK(BM_NewAirLatency)->Arg(0)->Arg(2)->Arg(4)->Iterations(6)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -120,17 +120,22 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
                                         "[1, 4096], direct_march_radii [1, 100], impostor_max_pixels_per_texel "
                                         "[0.25, 8] (0: defaults)");
   // Read and validate every layer before building any.
-  std::vector<AtmoCloudLayer> layers(s.layer_count);
   uint32_t stride = 0;
+  if (s.layer_count > 0) {
+    const ReadError e = array_stride<AtmoCloudLayer>(s.layer_size, "AtmoCloudsState.layer_size", &stride);
+    if (e.code) return bad(e.code, e.message);
+  }
+  std::vector<AtmoCloudLayer> layers(s.layer_count);
+  const char* bytes = reinterpret_cast<const char*>(s.layers);
   for (uint32_t i = 0; i < s.layer_count; ++i) {
-    const char* bytes = reinterpret_cast<const char*>(s.layers);
-    if (i == 0) {
-      AtmoStructHeader h;
-      std::memcpy(&h, bytes, sizeof(h));
-      stride = h.struct_size;
-    }
-    ReadError e = read_struct(bytes + static_cast<size_t>(stride) * i, ATMO_TYPE_CLOUD_LAYER, layer_name(i).c_str(),
-                              &layers[i]);
+    const char* element = bytes + static_cast<size_t>(stride) * i;
+    AtmoStructHeader h;
+    std::memcpy(&h, element, sizeof(h));
+    if (h.struct_size > stride)  // the plugin reads no byte past the element
+      return bad(ATMO_ERROR_OUT_OF_RANGE, layer_name(i) + ".header.struct_size = " + std::to_string(h.struct_size) +
+                                              " is larger than AtmoCloudsState.layer_size (" + std::to_string(stride) +
+                                              ")");
+    ReadError e = read_struct(element, ATMO_TYPE_CLOUD_LAYER, layer_name(i).c_str(), &layers[i]);
     if (e.code) return bad(e.code, e.message);
     Verdict v = validate_layer(layers[i], layer_name(i));
     if (!v.ok()) return v;
@@ -167,7 +172,7 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
         if (l.density_scale > 0.0) o.density_scale = l.density_scale;
         r = vdb::load_vdb_from_memory(std::string(bytes.begin(), bytes.end()), l.vdb_path, o);
       }
-      if (!r.ok) {
+      if (!r.ok) {  // every file is still tried, so the log names each that fails
         const std::string msg = layer_name(i) + ": " + r.error;
         load_errors->push_back(msg);
         if (result.ok()) result = bad(ATMO_ERROR_IO, msg);
@@ -199,6 +204,7 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
       append_field(std::move(g.field), &c.field);
     }
   }
+  if (!result.ok()) return result;  // all or nothing: the clouds stay as they were
   for (const clouds::CloudInstance& i : c.field.instances)
     c.mean_centre_height_m += c.field.prototypes[static_cast<size_t>(i.prototype)].centre_at(i.origin_enu_m).z;
   c.mean_centre_height_m /= static_cast<double>(std::max<size_t>(1, c.field.instances.size()));
@@ -216,7 +222,7 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
   c.version = out->version + 1;
   c.field_version = c.version;
   *out = std::move(c);
-  return result;
+  return {};
 }
 
 clouds::CloudLight cloud_light(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene) {

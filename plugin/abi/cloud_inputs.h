@@ -66,9 +66,10 @@ struct ContextClouds {
   bool relighting() const { return relight.job != nullptr; }
 };
 
-// Validates every layer of `state` (nothing changes on an error) and builds
-// the field into *out. Layers that fail to load (files) are left out and
-// listed in *load_errors; the verdict is then ATMO_ERROR_IO with the first.
+// Validates every layer of `state` and builds the field into *out, all or
+// nothing: on any error (a bad field, or a file that fails to load) *out is
+// unchanged. Every file is tried; those that fail are listed in *load_errors
+// (with the files' warnings) and the verdict is ATMO_ERROR_IO with the first.
 Verdict build_clouds(const AtmoCloudsState& state, const AtmoContext_T& context, ContextClouds* out,
                      std::vector<std::string>* load_errors);
 

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <string>
 
+#include "abi/struct_io.h"
 #include "abi/world_frame.h"
 
 namespace atmo::abi {
@@ -66,9 +67,11 @@ Verdict set_lights_state(const AtmoLightsState& s, fog::FogLights* out) {
                                             " is above 16384");
   if (s.light_count > 0 && !s.lights)
     return bad(ATMO_ERROR_INVALID_ARGUMENT, "AtmoLightsState.lights is NULL with light_count " + std::to_string(s.light_count));
-  if (s.light_count > 0 && s.light_size < sizeof(AtmoLightPoint))
-    return bad(ATMO_ERROR_STRUCT_TOO_SMALL, "AtmoLightsState.light_size is " + std::to_string(s.light_size) +
-                                                " bytes, version 1 needs " + std::to_string(sizeof(AtmoLightPoint)));
+  uint32_t stride = 0;
+  if (s.light_count > 0) {
+    const ReadError e = array_stride<AtmoLightPoint>(s.light_size, "AtmoLightsState.light_size", &stride);
+    if (e.code) return bad(e.code, e.message);
+  }
   if (!std::isfinite(s.glow_threshold_cd_m2) || s.glow_threshold_cd_m2 < 0.0)
     return bad(std::isfinite(s.glow_threshold_cd_m2) ? ATMO_ERROR_OUT_OF_RANGE : ATMO_ERROR_NON_FINITE_VALUE,
                "AtmoLightsState.glow_threshold_cd_m2 = " + num(s.glow_threshold_cd_m2) + " must be >= 0");
@@ -84,7 +87,7 @@ Verdict set_lights_state(const AtmoLightsState& s, fog::FogLights* out) {
   const auto* bytes = reinterpret_cast<const unsigned char*>(s.lights);
   for (uint32_t i = 0; i < s.light_count; ++i) {
     AtmoLightPoint p;
-    std::memcpy(&p, bytes + static_cast<size_t>(i) * s.light_size, sizeof(p));
+    std::memcpy(&p, bytes + static_cast<size_t>(i) * stride, sizeof(p));
     const std::string where = "AtmoLightsState.lights[" + std::to_string(i) + "].";
     const double* all = &p.position_m[0];
     for (size_t k = 0; k < sizeof(p) / sizeof(double); ++k)

@@ -23,6 +23,11 @@ void* fallback_gl_proc(void* /*user*/, const char* name) {
   return get ? get(name) : nullptr;
 }
 
+std::string too_large(const std::string& path) {
+  return "'" + path + "' is larger than " + std::to_string(kMaxFileBytes) +
+         " bytes (ATMO_FILE_SIZE_MAX), the most a file may hold";
+}
+
 const char* severity_name(AtmoLogSeverity s) {
   switch (s) {
     case ATMO_LOG_DEBUG: return "debug";
@@ -39,7 +44,8 @@ void HostServices::log(AtmoLogSeverity severity, const std::string& message) con
   if (s_.log) {
     s_.log(s_.user, severity, message.c_str());
   } else if (severity >= ATMO_LOG_WARNING) {
-    std::fprintf(stderr, "[atmo] %s: %s\n", severity_name(severity), message.c_str());
+    const std::string app = application_name_.empty() ? "" : application_name_ + ": ";
+    std::fprintf(stderr, "[atmo] %s%s: %s\n", app.c_str(), severity_name(severity), message.c_str());
   }
 }
 
@@ -70,10 +76,21 @@ bool HostServices::read_file(const std::string& path, const std::string& asset_r
       return false;
     }
     for (;;) {
-      int64_t n = s_.file_read(s_.user, f, chunk, sizeof(chunk));
+      const int64_t n = s_.file_read(s_.user, f, chunk, sizeof(chunk));
+      std::string why;
       if (n < 0) {
+        why = "host file service failed reading '" + full + "' (file_read returned " + std::to_string(n) + ")";
+      } else if (static_cast<uint64_t>(n) > sizeof(chunk)) {  // never copy more than the buffer holds
+        why = "host file service: file_read returned " + std::to_string(n) + " bytes for a buffer of " +
+              std::to_string(sizeof(chunk)) + " reading '" + full + "'";
+        log(ATMO_LOG_HOST_MISBEHAVING, why);
+      } else if (out->size() + static_cast<size_t>(n) > kMaxFileBytes) {
+        why = too_large(full);
+      }
+      if (!why.empty()) {
         s_.file_close(s_.user, f);
-        if (error) *error = "host file service failed reading '" + full + "'";
+        out->clear();
+        if (error) *error = why;
         return false;
       }
       if (n == 0) break;
@@ -88,11 +105,16 @@ bool HostServices::read_file(const std::string& path, const std::string& asset_r
     return false;
   }
   size_t n;
-  while ((n = std::fread(chunk, 1, sizeof(chunk), f)) > 0) out->insert(out->end(), chunk, chunk + n);
+  bool too_long = false;
+  while (!too_long && (n = std::fread(chunk, 1, sizeof(chunk), f)) > 0) {
+    too_long = out->size() + n > kMaxFileBytes;
+    if (!too_long) out->insert(out->end(), chunk, chunk + n);
+  }
   bool failed = std::ferror(f) != 0;
   std::fclose(f);
-  if (failed) {
-    if (error) *error = "error reading '" + full + "'";
+  if (failed || too_long) {
+    out->clear();
+    if (error) *error = too_long ? too_large(full) : "error reading '" + full + "'";
     return false;
   }
   return true;

@@ -11,16 +11,23 @@
 
 namespace atmo::abi {
 
+// The most bytes one file read through read_file may hold (atmo.h).
+constexpr size_t kMaxFileBytes = ATMO_FILE_SIZE_MAX;
+
 class HostServices {
  public:
   HostServices() = default;
   // Copies the services the host set; members beyond its struct_size stay NULL.
   explicit HostServices(const AtmoHostServices& s) : s_(s) {}
 
+  // The stderr fallback names the application (AtmoContextCreateInfo.application_name).
+  void set_application_name(const std::string& name) { application_name_ = name; }
   void log(AtmoLogSeverity severity, const std::string& message) const;
   void* allocate(size_t size, size_t alignment) const;
   void deallocate(void* p) const;
-  // Reads a whole file (relative paths against asset_root). False + *error naming the path on failure.
+  // Reads a whole file (relative paths against asset_root), at most kMaxFileBytes.
+  // False + *error naming the path on failure (also when the host's file_read
+  // returns more than it was asked for: nothing past the buffer is read).
   bool read_file(const std::string& path, const std::string& asset_root, std::vector<uint8_t>* out,
                  std::string* error) const;
   // GL loader: the host's, or the fallback; null if neither exists.
@@ -30,6 +37,7 @@ class HostServices {
 
  private:
   AtmoHostServices s_{};
+  std::string application_name_;
 };
 
 // Directory holding libatmo.so, for the default asset_root.

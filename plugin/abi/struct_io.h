@@ -33,6 +33,7 @@ ATMO_V1_SIZE(AtmoCloudShadows, 184);
 ATMO_V1_SIZE(AtmoFogState, 64);
 ATMO_V1_SIZE(AtmoLightsState, 72);
 ATMO_V1_SIZE(AtmoFogLighting, 136);
+ATMO_V1_SIZE(AtmoLightPoint, 96);
 #undef ATMO_V1_SIZE
 
 struct ReadError {
@@ -70,6 +71,27 @@ ReadError read_struct(const void* in, AtmoStructType type, const char* what, T* 
   // skipped; the walk only guards against cycles (at most 64 links are read).
   const AtmoStructHeader* link = static_cast<const AtmoStructHeader*>(header.next);
   for (int i = 0; link && i < 64; ++i) link = static_cast<const AtmoStructHeader*>(link->next);
+  return e;
+}
+
+// The stride of an array the host passes (atmo.h, "ARRAYS"): `size` is the
+// element's sizeof as the host compiled it, 0 the version-1 size; otherwise
+// within [version-1 size, ATMO_ARRAY_ELEMENT_SIZE_MAX] and a multiple of 8 (the
+// elements hold doubles). `field` names the size field in messages.
+template <typename T>
+ReadError array_stride(uint32_t size, const char* field, uint32_t* stride) {
+  ReadError e;
+  const uint32_t v1 = V1Size<T>::value;
+  *stride = size == 0 ? v1 : size;
+  if (*stride < v1) {
+    e = {ATMO_ERROR_STRUCT_TOO_SMALL,
+         std::string(field) + " is " + std::to_string(size) + " bytes, version 1 needs " + std::to_string(v1)};
+  } else if (*stride > ATMO_ARRAY_ELEMENT_SIZE_MAX || *stride % 8 != 0) {
+    e = {ATMO_ERROR_OUT_OF_RANGE, std::string(field) + " = " + std::to_string(size) +
+                                      " bytes: a stride must be a multiple of 8 in [" + std::to_string(v1) + ", " +
+                                      std::to_string(ATMO_ARRAY_ELEMENT_SIZE_MAX) + "] (0: " +
+                                      std::to_string(v1) + ")"};
+  }
   return e;
 }
 

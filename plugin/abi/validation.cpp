@@ -1,5 +1,6 @@
 #include "abi/validation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -60,6 +61,68 @@ glm::dmat4 matrix(const double m[16]) {
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 4; ++r) out[c][r] = m[c * 4 + r];
   return out;
+}
+
+// view_from_world must be a rigid transform (docs/ABI.md): its upper 3x3 a
+// rotation, R R^T = I and det R = +1, each to kRotationTolerance (float
+// round-off of a host's matrices is ~1e-6), and its bottom row (0, 0, 0, 1).
+// The translation is not used (the eye is given); it need only be finite.
+constexpr double kRotationTolerance = 1e-3;
+// clip_from_view must be invertible and well conditioned: its condition number
+// in the infinity norm, |P| |P^-1|, at most kMaxProjectionCondition (a
+// perspective with near 1e-4 m, far 1e7 m has ~1e4; an infinite reversed-Z one
+// with near 0.01 m ~1e2).
+constexpr double kMaxProjectionCondition = 1e10;
+
+// NaN when any entry is NaN (the inverse of a singular matrix).
+double infinity_norm(const glm::dmat4& m) {
+  double norm = 0.0;
+  for (int r = 0; r < 4; ++r) {
+    const double row = std::abs(m[0][r]) + std::abs(m[1][r]) + std::abs(m[2][r]) + std::abs(m[3][r]);
+    if (std::isnan(row)) return row;
+    norm = std::max(norm, row);
+  }
+  return norm;
+}
+
+bool rigid_view(Verdict* v, const glm::dmat4& m) {
+  const glm::dmat3 rot(m);
+  double worst = 0.0;
+  const glm::dmat3 gram = rot * glm::transpose(rot);
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) {
+      const double e = std::abs(gram[c][r] - (c == r ? 1.0 : 0.0));
+      if (std::isnan(e) || e > worst) worst = e;  // a NaN stays
+    }
+  if (!(worst <= kRotationTolerance)) {
+    *v = {ATMO_ERROR_OUT_OF_RANGE, "AtmoViewState.view_from_world: the upper 3x3 is not a rotation (max |R R^T - I| = " +
+                                       number(worst) + ", tolerance " + number(kRotationTolerance) + ")"};
+    return false;
+  }
+  if (!(glm::determinant(rot) > 0.0)) {
+    *v = {ATMO_ERROR_OUT_OF_RANGE, "AtmoViewState.view_from_world: the upper 3x3 is a reflection (det " +
+                                       number(glm::determinant(rot)) + "), not a rotation"};
+    return false;
+  }
+  const double bottom[4] = {m[0][3], m[1][3], m[2][3], m[3][3] - 1.0};
+  for (int c = 0; c < 4; ++c) {
+    if (!(std::abs(bottom[c]) <= kRotationTolerance)) {
+      *v = {ATMO_ERROR_OUT_OF_RANGE, "AtmoViewState.view_from_world[" + std::to_string(c * 4 + 3) + "] = " +
+                                         number(c == 3 ? m[3][3] : bottom[c]) +
+                                         ": the bottom row must be (0, 0, 0, 1)"};
+      return false;
+    }
+  }
+  return true;
+}
+
+bool well_conditioned_projection(Verdict* v, const glm::dmat4& p) {
+  const glm::dmat4 inverse = glm::inverse(p);
+  const double condition = infinity_norm(p) * infinity_norm(inverse);
+  if (condition <= kMaxProjectionCondition) return true;  // false for NaN and Inf (a singular matrix)
+  *v = {ATMO_ERROR_OUT_OF_RANGE, "AtmoViewState.clip_from_view is singular or ill-conditioned (condition number " +
+                                     number(condition) + ", at most " + number(kMaxProjectionCondition) + ")"};
+  return false;
 }
 
 }  // namespace
@@ -138,6 +201,7 @@ Verdict validate_view(const AtmoViewState& s, core::EyeFrame* out) {
     return v;
   cam.view_from_world = matrix(s.view_from_world);
   cam.clip_from_view = matrix(s.clip_from_view);
+  if (!rigid_view(&v, cam.view_from_world) || !well_conditioned_projection(&v, cam.clip_from_view)) return v;
 
   if (s.viewport[2] <= 0 || s.viewport[3] <= 0 || s.viewport[2] > 32768 || s.viewport[3] > 32768 ||
       s.viewport[0] < 0 || s.viewport[1] < 0) {

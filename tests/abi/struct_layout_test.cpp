@@ -45,6 +45,8 @@ TEST(StructLayout, Version1OffsetsAreFrozen) {
   EXPECT_EQ(offsetof(AtmoPluginApi, get_cloud_shadows), 152u);
   EXPECT_EQ(offsetof(AtmoCloudsState, light_update_threshold_deg), 72u);
   EXPECT_EQ(offsetof(AtmoCloudsState, draw_mode), 80u);
+  EXPECT_EQ(offsetof(AtmoCloudsState, layer_size), 68u);  // the version-1 `reserved` (0: the version-1 stride)
+  EXPECT_EQ(offsetof(AtmoLightsState, light_size), 20u);
   EXPECT_EQ(offsetof(AtmoHostServices, gl_get_proc_address), 72u);
   EXPECT_EQ(offsetof(AtmoFrameState, utc_posix_s), 24u);
   EXPECT_EQ(offsetof(AtmoViewState, eye_ecef_m), 24u);

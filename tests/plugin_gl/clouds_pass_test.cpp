@@ -1,6 +1,6 @@
 // The cloud pass through the ABI: set_clouds validation (each bad field named,
-// nothing changed), a missing or corrupt VDB file left out while the other
-// layers still draw, no clouds -> no cost, and finite output where the march
+// nothing changed), a missing or corrupt VDB file refusing the whole call
+// (clouds unchanged), no clouds -> no cost, and finite output where the march
 // is known to be fragile: inside a cloud, above a deck, the Sun below the
 // horizon, far from the origin.
 #include <glad/gl.h>
@@ -116,24 +116,40 @@ TEST(CloudsPass, InvalidStatesAreRejectedWithTheFieldNamed) {
   EXPECT_EQ(draw_clouds(f, 500.0, 10.0, &img), ATMO_STATUS_NOTHING_TO_DRAW);
 }
 
-TEST(CloudsPass, ABadVdbFileIsLeftOutAndTheRestDraws) {
+// All or nothing (atmo.h): a call with a missing or corrupt VDB file is
+// refused with ATMO_ERROR_IO and the clouds stay as they were, from no clouds
+// and from a deck already set. (Before, the good layers of the call replaced
+// the clouds: this test then drew the new seed's clouds.)
+TEST(CloudsPass, ABadVdbFileRefusesTheCallAndKeepsTheClouds) {
   Fixture f;
   const std::string corrupt = ::testing::TempDir() + "atmo_corrupt.vdb";
   std::ofstream(corrupt, std::ios::binary) << "not a vdb file at all";
   AtmoCloudLayer layers[3] = {cumulus(), cumulus(), cumulus()};
+  layers[0].seed = 77;  // other clouds than those kept
   layers[1].type = ATMO_CLOUD_VDB_FILE;
   layers[1].vdb_path = "/nonexistent/cloud.vdb";
   layers[2].type = ATMO_CLOUD_VDB_FILE;
   layers[2].vdb_path = corrupt.c_str();
-  const AtmoCloudsState s = clouds_at_innsbruck(layers, 3);
-  EXPECT_EQ(raw_set_clouds(f, s), ATMO_ERROR_IO);
+  const AtmoCloudsState bad_call = clouds_at_innsbruck(layers, 3);
+  atmo::support::Image img;
+  EXPECT_EQ(raw_set_clouds(f, bad_call), ATMO_ERROR_IO);
   const std::string e = f.context->last_error();
   std::printf("set_clouds: %s\n", e.c_str());
+  EXPECT_NE(e.find("layers[1]"), std::string::npos) << e;
   EXPECT_NE(e.find("/nonexistent/cloud.vdb"), std::string::npos) << e;
-  atmo::support::Image img;
-  EXPECT_EQ(draw_clouds(f, 500.0, 15.0, &img), ATMO_SUCCESS);  // the cumulus layer is kept
-  EXPECT_EQ(count_bad(img), 0u);
-  EXPECT_GT(mean_luminance(img), 0.0);
+  EXPECT_EQ(draw_clouds(f, 500.0, 15.0, &img), ATMO_STATUS_NOTHING_TO_DRAW);  // still no clouds
+
+  const AtmoCloudLayer deck = cumulus();
+  ASSERT_EQ(raw_set_clouds(f, clouds_at_innsbruck(&deck, 1)), ATMO_SUCCESS);
+  atmo::support::Image before, after;
+  ASSERT_EQ(draw_clouds(f, 500.0, 15.0, &before), ATMO_SUCCESS);
+  ASSERT_GT(mean_luminance(before), 0.0);
+  EXPECT_EQ(raw_set_clouds(f, bad_call), ATMO_ERROR_IO);
+  ASSERT_EQ(draw_clouds(f, 500.0, 15.0, &after), ATMO_SUCCESS);
+  const auto diff = atmo::support::compare_images(before, after, 1.0);
+  std::printf("clouds after a refused set_clouds: max |difference| %.3g\n", diff.max_abs);
+  EXPECT_EQ(diff.max_abs, 0.0) << "the refused call changed the clouds";
+  EXPECT_EQ(count_bad(after), 0u);
 }
 
 TEST(CloudsPass, FiniteWhereTheMarchIsFragile) {

@@ -45,6 +45,14 @@
  * ATMO_ERROR_STRUCT_TOO_SMALL. `next` chains extension structs; entries whose
  * type the plugin does not know are skipped.
  *
+ * ARRAYS: an array the host passes (cloud layers, lights) comes as a pointer,
+ * a count and a stride field `<element>_size` beside them: sizeof the element
+ * as the host compiled it, so the element can grow like any struct. 0 means
+ * the version-1 size; otherwise it must be a multiple of 8 within
+ * [version-1 size, ATMO_ARRAY_ELEMENT_SIZE_MAX]: smaller is
+ * ATMO_ERROR_STRUCT_TOO_SMALL, larger or unaligned ATMO_ERROR_OUT_OF_RANGE.
+ * The plugin reads count * stride bytes and no more.
+ *
  * RESULTS: 0 is success, > 0 a status (success with a remark), < 0 an error.
  * api.result_string(code) names any code; api.last_error(ctx) gives the last
  * detailed message (what went wrong and where). No C++ exception crosses the ABI.
@@ -69,6 +77,11 @@ extern "C" {
 
 #define ATMO_NEGOTIATE_SYMBOL "atmo_negotiate"
 
+/* The largest stride of an array element (see ARRAYS above), bytes. */
+#define ATMO_ARRAY_ELEMENT_SIZE_MAX 1024u
+/* The largest file the plugin reads (AtmoHostServices.file_read), bytes: 1 GiB. */
+#define ATMO_FILE_SIZE_MAX (1ull << 30)
+
 /* ------------------------------------------------------------------------ */
 /* Results                                                                   */
 /* ------------------------------------------------------------------------ */
@@ -79,7 +92,7 @@ enum {
   ATMO_SUCCESS = 0,
   /* Statuses (> 0): the call succeeded. */
   ATMO_STATUS_NOTHING_TO_DRAW = 1, /* the pass had nothing visible; it cost nothing */
-  ATMO_STATUS_NOT_YET_SUPPORTED = 2, /* accepted, but the feature is not implemented in this build */
+  ATMO_STATUS_NOT_YET_SUPPORTED = 2, /* reserved: no function of version 1 returns it (every pass is implemented) */
   /* Errors (< 0): the call did nothing, state is unchanged. */
   ATMO_ERROR_INVALID_ARGUMENT = -1,      /* NULL where a pointer is required, bad enum, ... */
   ATMO_ERROR_INCOMPATIBLE_VERSION = -2,  /* no interface version in the host's range */
@@ -159,16 +172,22 @@ typedef struct AtmoHostServices {
      May be called from any thread the plugin is called on. */
   void (*log)(void* user, int32_t severity, const char* message);
 
-  /* Allocator for the plugin's objects and large buffers (lookup tables,
-     volumes). alignment is a power of two. Fallback: aligned_alloc/free.
-     Small transient C++ allocations inside a call use the C++ heap. */
+  /* Allocator for the memory of the plugin's handles: each context and view
+     object comes from it and goes back to it when destroyed. alignment is a
+     power of two. Fallback: aligned_alloc/free. Everything else (lookup
+     tables, cloud volumes, star catalogues, containers) comes from the C++
+     heap: version 1 does not route those through the host. */
   void* (*allocate)(void* user, size_t size, size_t alignment);
   void (*deallocate)(void* user, void* pointer);
 
   /* File access, so a host can relocate or package assets. open returns a
-     non-NULL handle or NULL; read returns bytes read (0 at end, < 0 on error).
-     Paths are UTF-8, relative ones resolve against AtmoContextCreateInfo.asset_root.
-     Fallback: the C standard library's fopen/fread/fclose. */
+     non-NULL handle or NULL; read fills at most `size` bytes of `buffer` and
+     returns how many (0 at end, < 0 on error); a return above `size` fails the
+     read (ATMO_ERROR_IO, a HOST_MISBEHAVING log line) and nothing past the
+     buffer is used. A file may hold at most ATMO_FILE_SIZE_MAX bytes; a longer
+     one fails with ATMO_ERROR_IO. Paths are UTF-8, relative ones resolve
+     against AtmoContextCreateInfo.asset_root. All three or none must be set.
+     Fallback: the C standard library's fopen/fread/fclose (the same cap). */
   void* (*file_open)(void* user, const char* path);
   int64_t (*file_read)(void* user, void* file, void* buffer, uint64_t size);
   void (*file_close)(void* user, void* file);
@@ -188,13 +207,14 @@ typedef struct AtmoContextCreateInfo {
   AtmoStructHeader header;        /* ATMO_TYPE_CONTEXT_CREATE_INFO */
   const AtmoHostServices* services; /* may be NULL: all fallbacks. Copied; need not outlive the call. */
   const char* asset_root;         /* UTF-8 directory for plugin data files; NULL: next to libatmo.so */
-  const char* application_name;   /* for logs; may be NULL */
+  const char* application_name;   /* named in the stderr log fallback's lines ("[atmo] name: error: ...");
+                                     may be NULL */
   uint64_t seed;                  /* seed of every random stream (clouds, scintillation); 0 is a valid seed */
 } AtmoContextCreateInfo;
 
 typedef struct AtmoViewCreateInfo {
   AtmoStructHeader header; /* ATMO_TYPE_VIEW_CREATE_INFO */
-  uint32_t channel_id;     /* host's channel / eye number, for logs and per-channel caches */
+  uint32_t channel_id;     /* host's channel / eye number: named in the view's pass log lines; changes no result */
   uint32_t reserved;
 } AtmoViewCreateInfo;
 
@@ -224,7 +244,8 @@ typedef struct AtmoAtmosphereState {
    need TT, and UT1 = UTC + dut1_s for the Earth's rotation. */
 typedef struct AtmoFrameState {
   AtmoStructHeader header;      /* ATMO_TYPE_FRAME_STATE */
-  uint64_t host_frame_number;   /* monotonic; for logs and cache ageing */
+  uint64_t host_frame_number;   /* named in the passes' log lines; no cache or result depends on it
+                                   (they follow the state) */
   double utc_posix_s;           /* simulation time, see above. Must be finite. */
   double dut1_s;                /* UT1 - UTC in seconds, |dut1| < 1 (IERS Bulletin A); 0 is fine for rendering */
 } AtmoFrameState;
@@ -297,9 +318,14 @@ typedef struct AtmoViewState {
   double world_origin_geodetic[3]; /* origin of the ENU world frame (lat deg, lon deg, h m); ATMO_WORLD_ENU only */
 
   /* The host's view matrix. Only its rotation is used (the eye is given above),
-     so a host whose world is ECEF loses no precision to a huge translation. */
+     so a host whose world is ECEF loses no precision to a huge translation.
+     Must be rigid: the upper 3x3 a rotation (R R^T = I to 1e-3 per entry,
+     det > 0: no scale, shear or mirror), the bottom row (0, 0, 0, 1) to 1e-3,
+     the translation finite; else ATMO_ERROR_OUT_OF_RANGE. */
   double view_from_world[16];
-  /* The host's projection matrix (perspective, finite or infinite far plane). */
+  /* The host's projection matrix (perspective, finite or infinite far plane).
+     Must be invertible with condition number |P|inf |P^-1|inf <= 1e10; else
+     ATMO_ERROR_OUT_OF_RANGE. */
   double clip_from_view[16];
 
   /* Render target: the plugin draws into the framebuffer bound when a pass is
@@ -423,16 +449,17 @@ typedef struct AtmoCloudsState {
   AtmoStructHeader header;   /* ATMO_TYPE_CLOUDS_STATE */
   /* The ENU frame the layers are given in (latitude deg, longitude deg, height m, WGS84). */
   double origin_geodetic[3];
-  /* The layers: layer_count structs, each layers[0].header.struct_size bytes
-     apart (so the array can grow like any struct). 0 layers: no clouds (the
-     pass then costs nothing). */
+  /* The layers: layer_count structs, layer_size bytes apart (ARRAYS above);
+     each layer's header.struct_size must lie in [168, layer_size]. At most 64
+     layers; 0 layers: no clouds (the pass then costs nothing). */
   const AtmoCloudLayer* layers;
   uint32_t layer_count;
   /* Quality knobs; 0 takes the default (docs/CLOUDS.md charts their error and cost). */
   uint32_t march_resolution_divisor; /* the cloud march renders at 1/n of the viewport per axis, [1, 8]; default 2 */
   double march_step_voxels;          /* view-ray step, voxels, [0.25, 8]; default 1 */
   uint32_t multiple_scattering_octaves; /* 1 = single scattering, [1, 8]; default 6 */
-  uint32_t reserved;                 /* 0 */
+  uint32_t layer_size;               /* sizeof(AtmoCloudLayer) as the host compiled it: the layers' stride;
+                                        0: 168 (version 1) */
   double light_update_threshold_deg; /* the light's direction may move this far before the clouds are relit; default 0.5 */
   /* Impostors (Harris & Lastra 2001; docs/CLOUDS.md). These fields grew the
      struct after its first 80-byte layout: a host with that layout gets the
@@ -531,8 +558,8 @@ typedef struct AtmoLightPoint {
 typedef struct AtmoLightsState {
   AtmoStructHeader header;      /* ATMO_TYPE_LIGHTS_STATE */
   uint32_t world_frame;         /* AtmoWorldFrame of the positions and axes */
-  /* sizeof(AtmoLightPoint) as the host compiled it: the array's stride, so the
-     light struct can grow. >= 96 (version 1). */
+  /* sizeof(AtmoLightPoint) as the host compiled it: the lights' stride
+     (ARRAYS above); 0: 96 (version 1). */
   uint32_t light_size;
   double world_origin_geodetic[3]; /* ATMO_WORLD_ENU: the frame's origin (lat deg, lon deg, h m) */
   const AtmoLightPoint* lights; /* light_count entries, light_size bytes apart; copied */
@@ -677,11 +704,12 @@ typedef struct AtmoPluginApi {
      NULL here and has no clouds) --- */
   /* Replaces the clouds. Generates procedural layers and reads VDB files on
      the calling thread: seconds for large layers, so call it when a scenario
-     or the weather changes, not every frame. A layer that fails (a missing,
-     corrupt, empty or wrong-typed file) is left out with its error in
-     last_error and a log line, the others are kept, and the result is
-     ATMO_ERROR_IO (file) or the validation error; invalid fields in any layer
-     (bad enum, NaN, out of range) reject the whole call, clouds unchanged.
+     or the weather changes, not every frame. All or nothing, like every
+     call: invalid fields in any layer (bad enum, NaN, out of range) or a
+     layer whose file fails (missing, corrupt, empty or wrong-typed) reject
+     the whole call and the clouds are unchanged. Every file is still tried:
+     each failure is logged, last_error names the first, and the result is
+     ATMO_ERROR_IO (a file) or the validation error.
      The clouds are lit on the first cloud pass; when the light later moves
      past light_update_threshold_deg they are relit on a worker thread the
      plugin owns (it never calls the host), and passes keep drawing with the

@@ -98,7 +98,7 @@ class Context {
   void set_frame(const AtmoFrameState& s) { check(api_->set_frame(context_, &s), "set_frame"); }
   std::string last_error() const { return api_->last_error(context_); }
   // Throws on an invalid state; a layer that failed to load (ATMO_ERROR_IO)
-  // is returned, not thrown: the other layers were kept (last_error says which).
+  // is returned, not thrown: the clouds are unchanged (last_error says which file).
   AtmoResult set_clouds(const AtmoCloudsState& s) {
     if (!api_->set_clouds) throw std::runtime_error("set_clouds: the plugin has no clouds (an older plugin)");
     AtmoResult r = api_->set_clouds(context_, &s);

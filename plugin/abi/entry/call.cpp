@@ -37,4 +37,8 @@ AtmoResult require_frame_and_view(AtmoContext_T* ctx, const AtmoView_T& view, co
   return ATMO_SUCCESS;
 }
 
+std::string pass_log_prefix(const AtmoContext_T* ctx, const AtmoView_T* view) {
+  return "frame " + std::to_string(ctx->frame_number) + ", channel " + std::to_string(view->channel_id) + ": ";
+}
+
 }  // namespace atmo::abi

@@ -87,6 +87,11 @@ AtmoResult view_call(AtmoView view_handle, const char* function, const T* in, At
 // `needs_gl`), set_frame and set_view; else CALL_OUT_OF_ORDER naming the missing one.
 AtmoResult require_frame_and_view(AtmoContext_T* ctx, const AtmoView_T& view, const char* function, bool needs_gl);
 
+// What a pass's log lines begin with: the host's frame number and the view's
+// channel (AtmoFrameState.host_frame_number, AtmoViewCreateInfo.channel_id;
+// they name the frame in logs and change no result).
+std::string pass_log_prefix(const AtmoContext_T* ctx, const AtmoView_T* view);
+
 // Copies what the host's struct can hold (its header.struct_size, already
 // checked to be at least version 1) and keeps the host's header.
 template <typename T>

@@ -54,7 +54,7 @@ AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& 
     return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_CLOUDS)", error);
   const gl::CloudDrawStats& st = ctx->cloud_renderer.last_stats();
   ctx->services.log(ATMO_LOG_DEBUG,
-                    "clouds: " + std::to_string(st.in_view) + " in view, " + std::to_string(st.impostors_drawn) +
+                    pass_log_prefix(ctx, view) + "clouds: " + std::to_string(st.in_view) + " in view, " + std::to_string(st.impostors_drawn) +
                         " from impostors (" + std::to_string(st.impostors_created) + " new, " +
                         std::to_string(st.impostors_updated) + " re-rendered, " + std::to_string(st.impostors_stale) +
                         " stale left), " + std::to_string(st.marched) + " marched; impostor atlas " +

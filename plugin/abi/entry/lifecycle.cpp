@@ -65,9 +65,10 @@ AtmoResult create_context(const AtmoContextCreateInfo* info_in, AtmoContext* out
     AtmoContext_T* ctx;
     try {
       ctx = new (memory) AtmoContext_T();
-      ctx->services = services;
-      ctx->asset_root = info.asset_root ? info.asset_root : plugin_directory();
       ctx->application_name = info.application_name ? info.application_name : "";
+      ctx->services = services;
+      ctx->services.set_application_name(ctx->application_name);
+      ctx->asset_root = info.asset_root ? info.asset_root : plugin_directory();
       ctx->seed = info.seed;
     } catch (...) {
       services.deallocate(memory);

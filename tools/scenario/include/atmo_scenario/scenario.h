@@ -174,7 +174,7 @@ struct Scenario {
   std::vector<Camera> cameras;  // at least one
   Atmosphere atmosphere;
   std::optional<Terrain> terrain;
-  std::vector<CloudLayer> clouds;  // not yet supported
+  std::vector<CloudLayer> clouds;
   std::optional<Fog> fog;
   std::optional<Lights> lights;
   std::optional<NightSky> night_sky;
