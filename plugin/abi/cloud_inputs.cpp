@@ -12,7 +12,7 @@
 #include "core/clouds/procedural_clouds.h"
 #include "core/scene.h"
 #include "core/shader_twin.h"
-#include "vdb/vdb_io.h"
+#include "vdb/vdb_module_client.h"
 
 namespace atmo::abi {
 
@@ -165,7 +165,7 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
         if (l.vdb_grid && *l.vdb_grid) o.grid_name = l.vdb_grid;
         if (l.metres_per_unit > 0.0) o.metres_per_unit = l.metres_per_unit;
         if (l.density_scale > 0.0) o.density_scale = l.density_scale;
-        r = vdb::load_vdb_from_memory(std::string(bytes.begin(), bytes.end()), l.vdb_path, o);
+        r = vdb::load_vdb_through_module(bytes.data(), bytes.size(), l.vdb_path, o);
       }
       if (!r.ok) {
         const std::string msg = layer_name(i) + ": " + r.error;

@@ -2,6 +2,7 @@
 // checks its handles and structs, runs behind an exception barrier, and on
 // error leaves state unchanged and records a message naming what and where.
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <new>
 #include <string>
@@ -25,7 +26,11 @@ constexpr uint32_t kMinInterface = ATMO_INTERFACE_VERSION_1;
 constexpr uint32_t kMaxInterface = ATMO_INTERFACE_VERSION_1;
 
 // Errors with no live context to hold them (create_context, bad handles).
-thread_local std::string g_orphan_error;
+// A plain buffer, not a std::string: a thread_local with a destructor
+// registers it with glibc (__cxa_thread_atexit), which then keeps libatmo.so
+// mapped after dlclose for as long as that thread lives.
+constexpr size_t kOrphanErrorBytes = 1024;
+thread_local char g_orphan_error[kOrphanErrorBytes];
 
 AtmoResult fail(AtmoContext_T* ctx, AtmoResult code, const char* function, const std::string& message) {
   std::string text = std::string(function) + ": " + message;
@@ -33,7 +38,7 @@ AtmoResult fail(AtmoContext_T* ctx, AtmoResult code, const char* function, const
     ctx->last_error = text;
     ctx->services.log(ATMO_LOG_ERROR, text);
   } else {
-    g_orphan_error = text;
+    std::snprintf(g_orphan_error, kOrphanErrorBytes, "%s", text.c_str());  // the log line keeps it whole
     HostServices().log(ATMO_LOG_ERROR, text);
   }
   return code;
@@ -84,7 +89,7 @@ const char* result_string(AtmoResult r) {
 
 const char* last_error(AtmoContext context) {
   AtmoContext_T* ctx = live_context(context);
-  return ctx ? ctx->last_error.c_str() : g_orphan_error.c_str();
+  return ctx ? ctx->last_error.c_str() : g_orphan_error;
 }
 
 AtmoResult create_context(const AtmoContextCreateInfo* info_in, AtmoContext* out) {

@@ -38,6 +38,7 @@
 #include <openvdb/io/Archive.h>
 #include <openvdb/io/io.h>
 #include <openvdb/openvdb.h>
+#include <tbb/task_arena.h>
 
 namespace atmo::vdb {
 namespace {
@@ -690,7 +691,12 @@ LoadResult load_vdb_from_memory(const std::string& bytes, const std::string& sou
   try {
     Input in(bytes);
     try {
-      load_impl(bytes, source_name, options, in, &r);
+      // OpenVDB's tools (active voxel count, bounding box) run on TBB, whose
+      // worker threads would outlive the call (and a plugin must start none:
+      // docs/ABI.md). An arena of one slot, the caller's: TBB starts no
+      // worker; the reading itself is serial anyway.
+      tbb::task_arena one_slot(1);
+      one_slot.execute([&] { load_impl(bytes, source_name, options, in, &r); });
       return r;
     } catch (const ReadError& e) {
       return fail(e.what());
