@@ -155,21 +155,19 @@ void use_a_context(const AtmoPluginApi& api, int base_threads) {
   api.destroy_context(ctx);
 }
 
-AtmoCloudLayer vdb_layer() {
+// The shipped VDB cloud, or a small procedural cumulus layer.
+AtmoCloudLayer cloud_layer(AtmoCloudLayerType type) {
   AtmoCloudLayer layer = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
-  layer.type = ATMO_CLOUD_VDB_FILE;
-  layer.vdb_path = ATMO_SOURCE_DIR "/config/scenarios/clouds/cumulus_single.vdb";
-  layer.position_enu_m[2] = 1500.0;
-  return layer;
-}
-
-AtmoCloudLayer cumulus_layer() {
-  AtmoCloudLayer layer = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
-  layer.type = ATMO_CLOUD_CUMULUS;
-  layer.coverage_oktas = 1;
-  layer.base_m = 1200.0;
-  layer.top_m = 1600.0;
-  layer.area_size_m = 1000.0;
+  layer.type = type;
+  if (type == ATMO_CLOUD_VDB_FILE) {
+    layer.vdb_path = ATMO_SOURCE_DIR "/config/scenarios/clouds/cumulus_single.vdb";
+    layer.position_enu_m[2] = 1500.0;
+  } else {
+    layer.coverage_oktas = 1;
+    layer.base_m = 1200.0;
+    layer.top_m = 1600.0;
+    layer.area_size_m = 1000.0;
+  }
   return layer;
 }
 
@@ -194,7 +192,7 @@ AtmoResult set_one_layer(const AtmoPluginApi& api, const AtmoCloudLayer& layer, 
 
 void use_a_vdb_layer(const AtmoPluginApi& api) {
   std::string error;
-  EXPECT_EQ(set_one_layer(api, vdb_layer(), &error), ATMO_SUCCESS) << error;
+  EXPECT_EQ(set_one_layer(api, cloud_layer(ATMO_CLOUD_VDB_FILE), &error), ATMO_SUCCESS) << error;
 }
 
 void expect_back_to(const Snapshot& base, const char* what, int cycle) {
@@ -273,11 +271,11 @@ TEST(PluginUnload, WithoutTheModuleOnlyVdbLayersFailAndTheErrorNamesThePath) {
     Loaded plugin(copy);
     ASSERT_TRUE(plugin.ok());
     std::string error;
-    EXPECT_EQ(set_one_layer(plugin.api(), vdb_layer(), &error), ATMO_ERROR_IO);
+    EXPECT_EQ(set_one_layer(plugin.api(), cloud_layer(ATMO_CLOUD_VDB_FILE), &error), ATMO_ERROR_IO);
     std::printf("without the module: %s\n", error.c_str());
     EXPECT_NE(error.find("AtmoCloudsState.layers[0]"), std::string::npos) << error;
     EXPECT_NE(error.find(dir + "/libatmo_vdb.so"), std::string::npos) << error;
-    EXPECT_EQ(set_one_layer(plugin.api(), cumulus_layer(), &error), ATMO_SUCCESS) << error;
+    EXPECT_EQ(set_one_layer(plugin.api(), cloud_layer(ATMO_CLOUD_CUMULUS), &error), ATMO_SUCCESS) << error;
     EXPECT_EQ(maps_openvdb(library_mappings()), openvdb_before) << describe(library_mappings());
   }
   std::filesystem::remove_all(dir);
