@@ -8,11 +8,11 @@
 #include "abi/objects.h"
 #include "abi/scene_inputs.h"
 #include "abi/struct_io.h"
+#include "abi/vdb_module_client.h"
+#include "core/atmosphere/shader_twin.h"
 #include "core/clouds/field_light.h"
 #include "core/clouds/procedural_clouds.h"
 #include "core/scene/scene.h"
-#include "core/atmosphere/shader_twin.h"
-#include "vdb/vdb_io.h"
 
 namespace atmo::abi {
 
@@ -170,7 +170,7 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
         if (l.vdb_grid && *l.vdb_grid) o.grid_name = l.vdb_grid;
         if (l.metres_per_unit > 0.0) o.metres_per_unit = l.metres_per_unit;
         if (l.density_scale > 0.0) o.density_scale = l.density_scale;
-        r = vdb::load_vdb_from_memory(std::string(bytes.begin(), bytes.end()), l.vdb_path, o);
+        r = vdb::load_vdb_through_module(bytes.data(), bytes.size(), l.vdb_path, o);
       }
       if (!r.ok) {  // every file is still tried, so the log names each that fails
         const std::string msg = layer_name(i) + ": " + r.error;

@@ -38,6 +38,7 @@
 #include <openvdb/io/Archive.h>
 #include <openvdb/io/io.h>
 #include <openvdb/openvdb.h>
+#include <tbb/task_arena.h>
 
 namespace atmo::vdb {
 namespace {
@@ -301,14 +302,14 @@ bool fits(const int64_t dims[3], int64_t f, uint64_t max_voxels, int64_t out[3])
   return total <= max_voxels;
 }
 
-template <typename GridT>
-void extract(const GridT& grid, const std::string& source, const LoadOptions& options, LoadResult* r) {
-  const std::string label = source + ": grid " + quoted(grid.getName());
-  const std::string where = "grid " + quoted(grid.getName());
-  clouds::CloudVolume& vol = r->volume;
+// extract(): one VDB grid -> r->volume, in the steps below. Each step throws
+// ReadError for what it refuses and adds its warnings in the order a reader
+// meets them (the tests compare messages).
 
-  // Transform: linear, uniform scale, no rotation (a layer's heading rotates).
-  const openvdb::math::Transform& xf = grid.constTransform();
+// Step 1. The grid's index-to-world map must be a uniform scale plus a
+// translation: CloudVolume has one voxel size, and its rotation belongs to the
+// layer (heading), not to the file. Returns the voxel size (file units).
+double uniform_voxel_size(const openvdb::math::Transform& xf, const std::string& where) {
   if (!xf.isLinear()) {
     throw ReadError(where + " has a non-linear transform (" + printable(xf.mapType()) +
                     "); only uniform scale + translation is supported");
@@ -331,111 +332,156 @@ void extract(const GridT& grid, const std::string& source, const LoadOptions& op
       }
     }
   }
+  return vs;
+}
 
+// Where the active voxels go in the dense grid: their bounding box (fine
+// voxels), the downsampling factor f, and the dense size n (box / f, plus
+// one voxel of zero padding per side).
+struct DenseLayout {
+  CoordBBox bbox;
+  int64_t dims[3] = {0, 0, 0};
+  int64_t f = 1;
+  int64_t n[3] = {0, 0, 0};
+  // The coarse cell (before padding) of fine index c on axis a.
+  int64_t coarse(int a, int32_t c) const { return (int64_t{c} - bbox.min()[a]) / f; }
+};
+
+// Step 2. The active box, and the smallest factor that fits max_voxels (a
+// larger grid is downsampled, never refused).
+template <typename GridT>
+DenseLayout plan_dense_grid(const GridT& grid, uint64_t max_voxels, const std::string& where) {
   if (grid.activeVoxelCount() == 0) throw ReadError(where + " is empty: no active voxels");
-  const CoordBBox bbox = grid.evalActiveVoxelBoundingBox();
-  const Coord bmin = bbox.min();
-  const int64_t dims[3] = {int64_t{bbox.max().x()} - bmin.x() + 1, int64_t{bbox.max().y()} - bmin.y() + 1,
-                           int64_t{bbox.max().z()} - bmin.z() + 1};
-
+  DenseLayout l;
+  l.bbox = grid.evalActiveVoxelBoundingBox();
+  for (int a = 0; a < 3; ++a) l.dims[a] = int64_t{l.bbox.max()[a]} - l.bbox.min()[a] + 1;
   // Any f that fits has f^3 >= box volume / max_voxels: start the search there.
   // It ends at the latest at f = max(dims), which gives 3^3 voxels.
-  const double ratio = static_cast<double>(dims[0]) * static_cast<double>(dims[1]) *
-                       static_cast<double>(dims[2]) / static_cast<double>(options.max_voxels);
-  int64_t f = std::max<int64_t>(1, static_cast<int64_t>(std::cbrt(ratio)) - 1);
-  int64_t n[3] = {0, 0, 0};
-  while (!fits(dims, f, options.max_voxels, n)) ++f;
+  const double ratio = static_cast<double>(l.dims[0]) * static_cast<double>(l.dims[1]) *
+                       static_cast<double>(l.dims[2]) / static_cast<double>(max_voxels);
+  l.f = std::max<int64_t>(1, static_cast<int64_t>(std::cbrt(ratio)) - 1);
+  while (!fits(l.dims, l.f, max_voxels, l.n)) ++l.f;
+  return l;
+}
 
-  vol.density = clouds::DenseGrid(static_cast<int>(n[0]), static_cast<int>(n[1]), static_cast<int>(n[2]));
-  clouds::DenseGrid& dense = vol.density;
-
-  uint64_t nan_count = 0, negative_count = 0;
+// What step 3 saw, for the checks and warnings of step 4.
+struct ValueStats {
+  uint64_t nan_count = 0;
+  uint64_t negative_count = 0;
   Coord first_nan;
-  double min_value = 0.0, max_value = 0.0;
-  const double scale = options.density_scale;
-  const auto coarse = [&](int a, int32_t c) { return (int64_t{c} - bmin[a]) / f; };
+  double min_value = 0.0;  // the most negative value (before clamping)
+  double max_value = 0.0;  // after clamping and density_scale
+};
+
+// A tile (one value over a box of fine voxels) adds v times its overlap, in
+// fine voxels, with each coarse cell: the sum is mass, averaged in step 4.
+void add_tile(const CoordBBox& box, double v, const DenseLayout& l, clouds::DenseGrid* dense) {
+  int64_t lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = l.coarse(a, std::max(box.min()[a], l.bbox.min()[a]));
+    hi[a] = l.coarse(a, std::min(box.max()[a], l.bbox.max()[a]));
+  }
+  const auto overlap = [&](int a, int64_t cell) {
+    const int64_t cell_lo = l.bbox.min()[a] + cell * l.f, cell_hi = cell_lo + l.f - 1;
+    return std::min<int64_t>(box.max()[a], cell_hi) - std::max<int64_t>(box.min()[a], cell_lo) + 1;
+  };
+  for (int64_t z = lo[2]; z <= hi[2]; ++z) {
+    for (int64_t y = lo[1]; y <= hi[1]; ++y) {
+      for (int64_t x = lo[0]; x <= hi[0]; ++x) {
+        const double count = static_cast<double>(overlap(0, x) * overlap(1, y) * overlap(2, z));
+        dense->at(static_cast<int>(x + 1), static_cast<int>(y + 1), static_cast<int>(z + 1)) +=
+            static_cast<float>(v * count);
+      }
+    }
+  }
+}
+
+// Step 3. Sums every active value (voxels and tiles) into its coarse cell,
+// negative values clamped to 0, times density_scale. NaNs are counted, not
+// summed, so step 4 can name the first one.
+template <typename GridT>
+ValueStats accumulate_values(const GridT& grid, const DenseLayout& l, double scale, clouds::DenseGrid* dense) {
+  ValueStats s;
   for (auto it = grid.cbeginValueOn(); it; ++it) {
     const double raw = static_cast<double>(*it);
     CoordBBox box;
     it.getBoundingBox(box);  // one voxel, or a tile's extent
     if (!std::isfinite(raw)) {
-      if (nan_count == 0) first_nan = box.min();
-      nan_count += box.volume();
+      if (s.nan_count == 0) s.first_nan = box.min();
+      s.nan_count += box.volume();
       continue;
     }
     if (raw < 0.0) {
-      negative_count += box.volume();
-      min_value = std::min(min_value, raw);
+      s.negative_count += box.volume();
+      s.min_value = std::min(s.min_value, raw);
     }
     const double v = std::max(raw, 0.0) * scale;
-    max_value = std::max(max_value, v);
+    s.max_value = std::max(s.max_value, v);
     if (v == 0.0) continue;
     if (it.isVoxelValue()) {
       const Coord c = it.getCoord();
-      dense.at(static_cast<int>(coarse(0, c.x()) + 1), static_cast<int>(coarse(1, c.y()) + 1),
-               static_cast<int>(coarse(2, c.z()) + 1)) += static_cast<float>(v);
+      dense->at(static_cast<int>(l.coarse(0, c.x()) + 1), static_cast<int>(l.coarse(1, c.y()) + 1),
+                static_cast<int>(l.coarse(2, c.z()) + 1)) += static_cast<float>(v);
       continue;
     }
-    // A tile: add v times its overlap (in fine voxels) with each coarse cell.
-    int64_t lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = coarse(a, std::max(box.min()[a], bbox.min()[a]));
-      hi[a] = coarse(a, std::min(box.max()[a], bbox.max()[a]));
-    }
-    const auto overlap = [&](int a, int64_t cell) {
-      const int64_t cell_lo = bmin[a] + cell * f, cell_hi = cell_lo + f - 1;
-      return std::min<int64_t>(box.max()[a], cell_hi) - std::max<int64_t>(box.min()[a], cell_lo) + 1;
-    };
-    for (int64_t z = lo[2]; z <= hi[2]; ++z) {
-      for (int64_t y = lo[1]; y <= hi[1]; ++y) {
-        for (int64_t x = lo[0]; x <= hi[0]; ++x) {
-          const double count = static_cast<double>(overlap(0, x) * overlap(1, y) * overlap(2, z));
-          dense.at(static_cast<int>(x + 1), static_cast<int>(y + 1), static_cast<int>(z + 1)) +=
-              static_cast<float>(v * count);
-        }
-      }
-    }
+    add_tile(box, v, l, dense);
   }
-  if (nan_count > 0) {
-    throw ReadError(where + " has " + num(nan_count) + " NaN or infinite value(s) (first at index " +
-                    coord_str(first_nan) + ")");
+  return s;
+}
+
+// Step 4. Refuses NaNs; turns the sums into means (downsampling preserves
+// mass); warns of downsampling, clamped values, implausible densities and an
+// ignored background.
+void finish_values(const ValueStats& s, const DenseLayout& l, double voxel_size, double background,
+                   const LoadOptions& options, const std::string& label, const std::string& where,
+                   clouds::DenseGrid* dense, std::vector<std::string>* warnings) {
+  if (s.nan_count > 0) {
+    throw ReadError(where + " has " + num(s.nan_count) + " NaN or infinite value(s) (first at index " +
+                    coord_str(s.first_nan) + ")");
   }
-  if (f > 1) {
-    const float inv = static_cast<float>(1.0 / (static_cast<double>(f) * f * f));
-    for (float& v : dense.values) v *= inv;
-    r->warnings.push_back(label + ": " + num(dims[0]) + "x" + num(dims[1]) + "x" + num(dims[2]) +
-                          " active voxels exceed max_voxels " + num(options.max_voxels) +
-                          ": downsampled by " + num(f) + " (box filter, mass preserved) to " + num(n[0]) +
-                          "x" + num(n[1]) + "x" + num(n[2]) + " with padding, voxel " +
-                          num(vs * options.metres_per_unit) + " m -> " +
-                          num(vs * options.metres_per_unit * static_cast<double>(f)) + " m");
+  if (l.f > 1) {
+    const float inv = static_cast<float>(1.0 / (static_cast<double>(l.f) * l.f * l.f));
+    for (float& v : dense->values) v *= inv;
+    const double vs_m = voxel_size * options.metres_per_unit;
+    warnings->push_back(label + ": " + num(l.dims[0]) + "x" + num(l.dims[1]) + "x" + num(l.dims[2]) +
+                        " active voxels exceed max_voxels " + num(options.max_voxels) + ": downsampled by " +
+                        num(l.f) + " (box filter, mass preserved) to " + num(l.n[0]) + "x" + num(l.n[1]) + "x" +
+                        num(l.n[2]) + " with padding, voxel " + num(vs_m) + " m -> " +
+                        num(vs_m * static_cast<double>(l.f)) + " m");
   }
-  if (negative_count > 0) {
-    r->warnings.push_back(label + ": " + num(negative_count) + " negative value(s) (min " + num(min_value) +
-                          ") clamped to 0");
+  if (s.negative_count > 0) {
+    warnings->push_back(label + ": " + num(s.negative_count) + " negative value(s) (min " + num(s.min_value) +
+                        ") clamped to 0");
   }
-  if (max_value > 10.0) {
-    r->warnings.push_back(label + ": max density " + num(max_value) +
-                          " (after density_scale) is above 10; values above 1 are kept (the extinction "
-                          "scales them): check the grid and density_scale");
+  if (s.max_value > 10.0) {
+    warnings->push_back(label + ": max density " + num(s.max_value) +
+                        " (after density_scale) is above 10; values above 1 are kept (the extinction "
+                        "scales them): check the grid and density_scale");
   }
-  const double background = static_cast<double>(grid.background());
   if (background != 0.0) {
-    r->warnings.push_back(label + ": background " + num(background) +
-                          " ignored: voxels outside the active ones are read as 0");
+    warnings->push_back(label + ": background " + num(background) +
+                        " ignored: voxels outside the active ones are read as 0");
   }
+}
 
-  // Dense voxel d (padding included) covers fine voxels bmin + f*(d-1) ..
-  // + f-1; OpenVDB voxel centres are at integer index coordinates, so its
-  // lower corner is at index bmin + f*(d-1) - 0.5, i.e. bmin - f - 0.5 for d = 0.
+// Step 5. Places the dense grid in the scene. Dense voxel d (padding
+// included) covers fine voxels bmin + f*(d-1) .. + f-1; OpenVDB voxel centres
+// are at integer index coordinates, so its lower corner is at index
+// bmin + f*(d-1) - 0.5, i.e. bmin - f - 0.5 for d = 0.
+void place_volume(const openvdb::math::Transform& xf, const DenseLayout& l, double voxel_size,
+                  double metres_per_unit, clouds::CloudVolume* vol) {
+  const Coord bmin = l.bbox.min();
   const openvdb::Vec3d corner = xf.indexToWorld(openvdb::Vec3d(bmin.x(), bmin.y(), bmin.z()) -
-                                                openvdb::Vec3d(static_cast<double>(f) + 0.5));
-  vol.origin_enu_m = glm::dvec3(corner[0], corner[1], corner[2]) * options.metres_per_unit;
-  vol.voxel_size_m = static_cast<float>(vs * options.metres_per_unit * static_cast<double>(f));
-  vol.rotation = glm::dquat(1.0, 0.0, 0.0, 0.0);
-  vol.name = source + ":" + grid.getName();
+                                                openvdb::Vec3d(static_cast<double>(l.f) + 0.5));
+  vol->origin_enu_m = glm::dvec3(corner[0], corner[1], corner[2]) * metres_per_unit;
+  vol->voxel_size_m = static_cast<float>(voxel_size * metres_per_unit * static_cast<double>(l.f));
+  vol->rotation = glm::dquat(1.0, 0.0, 0.0, 0.0);
+}
 
-  // Optics written by write_vdb_* (or by hand): restore what is valid.
+// Step 6. The optics written by write_vdb_* (or by hand) as grid metadata:
+// each valid one replaces the default, an invalid one is ignored with a warning.
+void restore_optics(const openvdb::GridBase& grid, const std::string& label, clouds::CloudOptics* optics,
+                    std::vector<std::string>* warnings) {
   const auto restore = [&](const char* key, float* out, double lo, double hi) {
     const openvdb::Metadata::ConstPtr m = grid[key];
     if (!m) return;
@@ -445,15 +491,33 @@ void extract(const GridT& grid, const std::string& source, const LoadOptions& op
     if (std::isfinite(v) && v >= lo && v <= hi) {
       *out = static_cast<float>(v);
     } else {
-      r->warnings.push_back(label + ": metadata " + key + " (" + printable(m->typeName()) + " " +
-                            printable(m->str(), 40) + ") ignored: expected a float in [" + num(lo) + ", " +
-                            num(hi) + "]");
+      warnings->push_back(label + ": metadata " + key + " (" + printable(m->typeName()) + " " +
+                          printable(m->str(), 40) + ") ignored: expected a float in [" + num(lo) + ", " +
+                          num(hi) + "]");
     }
   };
   const double big = std::numeric_limits<double>::max();
-  restore("atmo_extinction_per_m", &vol.optics.extinction_per_m, 0.0, big);
-  restore("atmo_albedo", &vol.optics.albedo, 0.0, 1.0);
-  restore("atmo_droplet_diameter_um", &vol.optics.droplet_diameter_um, 0.0, big);
+  restore("atmo_extinction_per_m", &optics->extinction_per_m, 0.0, big);
+  restore("atmo_albedo", &optics->albedo, 0.0, 1.0);
+  restore("atmo_droplet_diameter_um", &optics->droplet_diameter_um, 0.0, big);
+}
+
+template <typename GridT>
+void extract(const GridT& grid, const std::string& source, const LoadOptions& options, LoadResult* r) {
+  const std::string label = source + ": grid " + quoted(grid.getName());
+  const std::string where = "grid " + quoted(grid.getName());
+  clouds::CloudVolume& vol = r->volume;
+  const openvdb::math::Transform& xf = grid.constTransform();
+  const double voxel_size = uniform_voxel_size(xf, where);
+  const DenseLayout layout = plan_dense_grid(grid, options.max_voxels, where);
+  vol.density = clouds::DenseGrid(static_cast<int>(layout.n[0]), static_cast<int>(layout.n[1]),
+                                  static_cast<int>(layout.n[2]));
+  const ValueStats stats = accumulate_values(grid, layout, options.density_scale, &vol.density);
+  finish_values(stats, layout, voxel_size, static_cast<double>(grid.background()), options, label, where,
+                &vol.density, &r->warnings);
+  place_volume(xf, layout, voxel_size, options.metres_per_unit, &vol);
+  vol.name = source + ":" + grid.getName();
+  restore_optics(grid, label, &vol.optics, &r->warnings);
 }
 
 void load_impl(const std::string& bytes, const std::string& source, const LoadOptions& options, Input& in,
@@ -627,7 +691,12 @@ LoadResult load_vdb_from_memory(const std::string& bytes, const std::string& sou
   try {
     Input in(bytes);
     try {
-      load_impl(bytes, source_name, options, in, &r);
+      // OpenVDB's tools (active voxel count, bounding box) run on TBB, whose
+      // worker threads would outlive the call (and a plugin must start none:
+      // docs/ABI.md). An arena of one slot, the caller's: TBB starts no
+      // worker; the reading itself is serial anyway.
+      tbb::task_arena one_slot(1);
+      one_slot.execute([&] { load_impl(bytes, source_name, options, in, &r); });
       return r;
     } catch (const ReadError& e) {
       return fail(e.what());

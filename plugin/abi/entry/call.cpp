@@ -1,10 +1,17 @@
 #include "abi/entry/call.h"
 
+#include <cstdio>
+
 namespace atmo::abi {
 
 namespace {
-thread_local std::string g_orphan_error;
-}
+// Errors with no live context to hold them (create_context, bad handles).
+// A plain buffer, not a std::string: a thread_local with a destructor
+// registers it with glibc (__cxa_thread_atexit), which then keeps libatmo.so
+// mapped after dlclose for as long as that thread lives.
+constexpr size_t kOrphanErrorBytes = 1024;
+thread_local char g_orphan_error[kOrphanErrorBytes];
+}  // namespace
 
 AtmoResult fail(AtmoContext_T* ctx, AtmoResult code, const char* function, const std::string& message) {
   std::string text = std::string(function) + ": " + message;
@@ -12,13 +19,13 @@ AtmoResult fail(AtmoContext_T* ctx, AtmoResult code, const char* function, const
     ctx->last_error = text;
     ctx->services.log(ATMO_LOG_ERROR, text);
   } else {
-    g_orphan_error = text;
+    std::snprintf(g_orphan_error, kOrphanErrorBytes, "%s", text.c_str());  // the log line keeps it whole
     HostServices().log(ATMO_LOG_ERROR, text);
   }
   return code;
 }
 
-const char* orphan_error() { return g_orphan_error.c_str(); }
+const char* orphan_error() { return g_orphan_error; }
 
 AtmoContext_T* live_context(AtmoContext context) { return is_live_context(context) ? context : nullptr; }
 
