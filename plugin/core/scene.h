@@ -25,12 +25,10 @@ constexpr double kSphereRadiusQuantumM = 10000.0;
 
 Scene make_scene(const AtmosphereSettings& settings, const SkyBodies& bodies, const EyeFrame& eye);
 
-// The same with the bodies computed here (uncached; ~0.3 ms). Should the
-// ephemeris reject the time, the Sun falls back to the low-precision formula
-// of core/solar_position.h and the Moon is put below the horizon.
+// The same with the bodies computed here (uncached; ~0.3 ms). Throws
+// std::invalid_argument, naming the ephemeris's reason, for a time or an eye
+// outside its ranges (core/astro/time_scales.h, core/astro/observer.h): there
+// is no low-precision stand-in.
 Scene make_scene(const AtmosphereSettings& settings, double utc_posix_s, double dut1_s, const EyeFrame& eye);
-
-// The fallback above, also for a cache that failed.
-SkyBodies low_precision_sky_bodies(double utc_posix_s, double dut1_s, const EyeFrame& eye);
 
 }  // namespace atmo::core
