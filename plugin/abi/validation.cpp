@@ -1,6 +1,8 @@
 #include "abi/validation.h"
 
 #include <cmath>
+#include <cstdlib>
+#include <iomanip>
 #include <sstream>
 
 #include "core/astro/observer.h"
@@ -10,11 +12,24 @@ namespace atmo::abi {
 
 namespace {
 
+// Whole numbers below 1e15 in full (POSIX seconds), else the shortest form
+// (10 to 17 significant digits) that reads back as v, so a value just outside
+// a range never prints as the bound itself.
 std::string number(double v) {
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
+  if (std::isfinite(v) && std::floor(v) == v && std::fabs(v) < 1e15) {
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(0) << v;
+    return s.str();
+  }
+  std::string text;
+  for (int digits = 10; digits <= 17; ++digits) {
+    std::ostringstream s;
+    s.precision(digits);
+    s << v;
+    text = s.str();
+    if (std::strtod(text.c_str(), nullptr) == v) break;
+  }
+  return text;
 }
 
 // Each check returns false and fills the verdict on failure.

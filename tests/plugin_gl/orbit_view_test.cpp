@@ -4,7 +4,8 @@
 // warning logged and every pixel finite and non-negative; from 400 km to
 // 10 000 km the Sun, the Moon, the planets and the stars are drawn where the
 // ephemeris puts them for that height (the Moon's parallax there is up to
-// 1.5°: drawn from the ground's ephemeris it would miss by tens of pixels).
+// 1.5°: in the 3° telephoto used here, the ground's ephemeris would put the
+// Moon 6 px off from 5000 km and 12 px off from 10 000 km).
 // Figures are printed with the prefix "[ orbit ]".
 #include <glad/gl.h>
 
@@ -140,7 +141,7 @@ TEST(OrbitView, EveryPassAtEveryHeightWithCloudsFogAndLights) {
   for (double utc : {kDayUtc, kNightUtc}) {
     set_time(f, utc);
     for (double h : kHeights) {
-      for (double pitch : {-60.0, 0.0, 60.0}) {
+      for (double pitch : {-45.0, 45.0}) {
         AtmoViewState vs = innsbruck_view(h, 200.0, pitch, projection);
         vs.depth_texture = depth;
         vs.exposure_scale = utc == kDayUtc ? 1e-4 : 1.0;
@@ -317,7 +318,7 @@ TEST(OrbitView, RangesAreTheEphemerisRangesAndRefusalsNameThem) {
                 {kNightUtc, -0.91, "AtmoFrameState.dut1_s", "-0.91"},
                 {-62135596801.0, 0.0, "AtmoFrameState.utc_posix_s", "-62135596801"},
                 {253402300800.0, 0.0, "AtmoFrameState.utc_posix_s", "253402300800"},
-                {-1.0e11, 0.0, "AtmoFrameState.utc_posix_s", "-1e+11"}};
+                {-1.0e11, 0.0, "AtmoFrameState.utc_posix_s", "-100000000000"}};
   for (const FrameCase& c : frames) {
     auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
     frame.utc_posix_s = c.utc;
