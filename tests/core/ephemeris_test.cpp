@@ -334,6 +334,20 @@ std::vector<astro::StarAstrometry> test_stars() {
   return stars;
 }
 
+// A body at p (au, from the observer, GCRS) as ERFA observes it: aberration
+// (eraAb, the context's observer velocity), BPN to CIRS, eraAtioq to ENU; no
+// deflection (below 1 mas for the Sun itself and for the Moon).
+glm::dvec3 erfa_observed_enu(eraASTROM& a, const double p[3]) {
+  double u[3], r, ab[3], cirs[3], q[3] = {p[0], p[1], p[2]};
+  eraPn(q, &r, u);
+  eraAb(u, a.v, a.em, a.bm1, ab);
+  eraRxp(a.bpn, ab, cirs);
+  double ri, di, aob, zob, hob, dob, rob;
+  eraC2s(cirs, &ri, &di);
+  eraAtioq(ri, di, &a, &aob, &zob, &hob, &dob, &rob);
+  return enu_from_az_zd(aob, zob);
+}
+
 }  // namespace
 
 TEST(EphemerisErfa, StarsMatchEraAtco13OverTwoCenturiesAndManySites) {
@@ -401,14 +415,7 @@ TEST(EphemerisErfa, SunMatchesTheErfaChainAssembledIndependently) {
         for (int i = 0; i < 3; ++i) p[i] = pvb[0][i] - pvh[0][i] - a.eb[i];
         tau = eraPm(p) * ERFA_AULT / ERFA_DAYSEC;
       }
-      double u[3], ab[3], cirs[3];
-      eraPn(p, &tau, u);
-      eraAb(u, a.v, a.em, a.bm1, ab);
-      eraRxp(a.bpn, ab, cirs);
-      double ri, di, aob, zob, hob, dob, rob;
-      eraC2s(cirs, &ri, &di);
-      eraAtioq(ri, di, &a, &aob, &zob, &hob, &dob, &rob);
-      s.add(sep_arcsec(sun.direction.enu_unrefracted, enu_from_az_zd(aob, zob)));
+      s.add(sep_arcsec(sun.direction.enu_unrefracted, erfa_observed_enu(a, p)));
     }
   }
   std::printf("\nSun vs the ERFA chain (eraApco13 + eraEpv00 + eraAb + eraAtioq), %d cases: worst %.2e\"\n", s.n,
@@ -497,17 +504,10 @@ TEST(EphemerisOrbit, MoonFromOrbitMatchesTheErfaChain) {
         for (int it = 0; it < 3; ++it) {
           eraMoon98(t.tt.jd1, t.tt.jd2 - tau, pv);  // geocentric GCRS, au
           // The eye from the geocentre: its barycentric position less the Earth's.
-          for (int i = 0; i < 3; ++i) p[i] = pv[0][i] - (a.eb[i] - pvb[0][i] + pvb[1][i] * tau) ;
+          for (int i = 0; i < 3; ++i) p[i] = pv[0][i] - (a.eb[i] - pvb[0][i] + pvb[1][i] * tau);
           tau = eraPm(p) * ERFA_AULT / ERFA_DAYSEC;
         }
-        double u[3], r, ab[3], cirs[3];
-        eraPn(p, &r, u);
-        eraAb(u, a.v, a.em, a.bm1, ab);
-        eraRxp(a.bpn, ab, cirs);
-        double ri, di, aob, zob, hob, dob, rob;
-        eraC2s(cirs, &ri, &di);
-        eraAtioq(ri, di, &a, &aob, &zob, &hob, &dob, &rob);
-        s.add(sep_arcsec(moon.direction.enu_unrefracted, enu_from_az_zd(aob, zob)), t.tt.value());
+        s.add(sep_arcsec(moon.direction.enu_unrefracted, erfa_observed_enu(a, p)), t.tt.value());
       }
     }
     std::printf("[ orbit ] %9.0f m Moon vs eraApco13 + eraMoon98 (%d instant-sites, 1900-2100): worst %.1f\" rms "
