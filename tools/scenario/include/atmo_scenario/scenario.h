@@ -33,7 +33,7 @@ struct Notice {
 struct GeodeticPoint {
   double latitude_deg = 0.0;   // [-90, 90]
   double longitude_deg = 0.0;  // [-180, 180]
-  double height_m = 0.0;       // above the ellipsoid, [-1000, 1e6]
+  double height_m = 0.0;       // above the ellipsoid, [-1000, 1e7]
 };
 
 // A point given either in east-north-up metres from Scenario::location
