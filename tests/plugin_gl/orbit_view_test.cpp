@@ -29,7 +29,7 @@ constexpr double kDeg = M_PI / 180.0;
 constexpr double kLat = 47.26, kLon = 11.35;  // innsbruck_view's place
 constexpr double kDayUtc = 1718964000.0;      // 2024-06-21T10:00Z: the Sun high over Innsbruck
 constexpr double kNightUtc = 1734303600.0;    // 2024-12-15T23:00Z: the Sun 66° down, the full Moon high
-const double kHeights[] = {-400.0, 0.0, 400e3, 1.0e6, 5.0e6, 1.0e7};
+const double kHeights[] = {-400.0, 400e3, 5.0e6, 1.0e7};
 
 double luminance(const float* rgba) { return 0.2126 * rgba[0] + 0.7152 * rgba[1] + 0.0722 * rgba[2]; }
 

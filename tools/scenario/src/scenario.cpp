@@ -97,7 +97,7 @@ class Loader {
       geodetic(*v, r.child("location"), &s->location);
     }
     utc(r, s);
-    if (auto v = r.number("dut1_s", Range::open(-1, 1), 0.0)) s->dut1_s = *v;
+    if (auto v = r.number("dut1_s", Range::closed(-0.9, 0.9), 0.0)) s->dut1_s = *v;  // the ABI's range (atmo.h)
     if (const json* v = r.field("cameras", true, "an array of at least 1 camera")) {
       cameras(*v, r.child("cameras"), s);
     }
