@@ -104,19 +104,8 @@ TEST(OrbitView, EveryPassAtEveryHeightWithCloudsFogAndLights) {
   f.services.log = &LogCapture::log;
   f.fresh_context();
 
-  AtmoCloudLayer layer = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
-  layer.type = ATMO_CLOUD_CUMULUS;
-  layer.coverage_oktas = 5;
-  layer.base_m = 1200.0;
-  layer.top_m = 2200.0;
-  layer.area_size_m = 6000.0;
-  layer.seed = 4;
-  AtmoCloudsState clouds = atmo::make<AtmoCloudsState>(ATMO_TYPE_CLOUDS_STATE);
-  clouds.origin_geodetic[0] = kLat;
-  clouds.origin_geodetic[1] = kLon;
-  clouds.layers = &layer;
-  clouds.layer_count = 1;
-  ASSERT_EQ(f.context->set_clouds(clouds), ATMO_SUCCESS) << f.context->last_error();
+  const AtmoCloudLayer layer = cumulus();
+  ASSERT_EQ(f.context->set_clouds(clouds_at_innsbruck(&layer, 1)), ATMO_SUCCESS) << f.context->last_error();
   AtmoFogState fog = atmo::make<AtmoFogState>(ATMO_TYPE_FOG_STATE);
   fog.visibility_m = 300.0;
   f.context->set_fog(fog);
