@@ -330,6 +330,17 @@ TEST(OrbitView, RangesAreTheEphemerisRangesAndRefusalsNameThem) {
     for (const char* part : {"set_view", "AtmoViewState.eye_geodetic[2]", c.value, "[-1000, 10000000] m"})
       EXPECT_NE(e.find(part), std::string::npos) << "'" << part << "' missing in: " << e;
   }
+  {
+    // An ECEF eye 20 000 km from the centre over the equator: 13 622 km up.
+    AtmoViewState vs = innsbruck_view(0.0, 0.0, 30.0, projection);
+    vs.eye_kind = ATMO_POSITION_ECEF;
+    vs.eye_ecef_m[0] = 2.0e7;
+    EXPECT_EQ(api.set_view(f.view->handle(), &vs), ATMO_ERROR_OUT_OF_RANGE);
+    const std::string e = f.context->last_error();
+    std::printf("[ orbit ] refused: %s\n", e.c_str());
+    for (const char* part : {"set_view", "AtmoViewState.eye_ecef_m", "13621863", "[-1000, 10000000] m"})
+      EXPECT_NE(e.find(part), std::string::npos) << "'" << part << "' missing in: " << e;
+  }
   // Refused input changed nothing: the same frame is drawn.
   ASSERT_EQ(f.view->render(ATMO_PASS_SKY), ATMO_SUCCESS) << f.context->last_error();
   const auto after = f.target->read_color();
