@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -57,13 +58,14 @@ void update_tables(AtmoContext_T* c, const TableKey& wanted) {
 }  // namespace
 
 core::Scene prepare_scene(AtmoContext_T* c, AtmoView_T& view) {
-  // set_frame and set_view validated the time and the eye, so the ephemeris
-  // cannot fail here; should it, the low-precision Sun keeps the sky drawn.
+  // set_frame and set_view checked the time and the eye against the
+  // ephemeris's own ranges, so it cannot fail here; should it, the call fails
+  // (ATMO_ERROR_INTERNAL, with the reason) rather than draw a wrong sky.
   std::string error;
   std::optional<core::SkyBodies> found =
       view.sky_bodies.get(c->utc_posix_s, c->dut1_s, view.eye.eye, view.eye.eye_ecef_m, &error);
-  if (!found) c->services.log(ATMO_LOG_WARNING, "atmo: ephemeris: " + error + "; using the low-precision Sun");
-  const core::SkyBodies bodies = found ? *found : core::low_precision_sky_bodies(c->utc_posix_s, c->dut1_s, view.eye);
+  if (!found) throw std::runtime_error("the ephemeris refused a validated time or eye: " + error);
+  const core::SkyBodies& bodies = *found;
   core::Scene s = core::make_scene(c->atmosphere, bodies, view.eye);
   update_tables(c, table_key(c->atmosphere, s.sphere_radius_m));
   if (c->tables_key != c->tables_wanted) {

@@ -2,17 +2,35 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <iomanip>
 #include <sstream>
+
+#include "core/astro/observer.h"
+#include "core/astro/time_scales.h"
 
 namespace atmo::abi {
 
 namespace {
 
+// Whole numbers below 1e15 in full (POSIX seconds), else the shortest form
+// (10 to 17 significant digits) that reads back as v, so a value just outside
+// a range never prints as the bound itself.
 std::string number(double v) {
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
+  if (std::isfinite(v) && std::floor(v) == v && std::fabs(v) < 1e15) {
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(0) << v;
+    return s.str();
+  }
+  std::string text;
+  for (int digits = 10; digits <= 17; ++digits) {
+    std::ostringstream s;
+    s.precision(digits);
+    s << v;
+    text = s.str();
+    if (std::strtod(text.c_str(), nullptr) == v) break;
+  }
+  return text;
 }
 
 // Each check returns false and fills the verdict on failure.
@@ -147,9 +165,12 @@ Verdict validate_atmosphere(const AtmoAtmosphereState& s, core::AtmosphereSettin
 
 Verdict validate_frame(const AtmoFrameState& s) {
   Verdict v;
-  // +-1e11 s is about year -1200 to 5100: beyond any ephemeris we use.
-  if (!in_range(&v, "AtmoFrameState.utc_posix_s", s.utc_posix_s, -1e11, 1e11, "s")) return v;
-  if (!in_range(&v, "AtmoFrameState.dut1_s", s.dut1_s, -1.0, 1.0, "s")) return v;
+  // The ephemeris's own ranges (core/astro/time_scales.h): years 0001-9999, |DUT1| <= 0.9 s.
+  if (!in_range(&v, "AtmoFrameState.utc_posix_s", s.utc_posix_s, core::astro::kMinPosixUtcS,
+                core::astro::kMaxPosixUtcS, "s (0001-01-01T00:00:00Z to 9999-12-31T23:59:59Z)"))
+    return v;
+  if (!in_range(&v, "AtmoFrameState.dut1_s", s.dut1_s, -core::astro::kMaxAbsDut1S, core::astro::kMaxAbsDut1S, "s"))
+    return v;
   return v;
 }
 
@@ -225,8 +246,12 @@ Verdict validate_view(const AtmoViewState& s, core::EyeFrame* out) {
     v = {ATMO_ERROR_OUT_OF_RANGE, "AtmoViewState." + why};
     return v;
   }
-  // The atmosphere model is valid from below sea level up to well above its top.
-  if (!in_range(&v, "eye height above the WGS84 ellipsoid", frame.eye.height_m, -12000.0, 1.0e7, "m")) return v;
+  // The ephemeris's observer range (core/astro/observer.h), which every pass serves.
+  const char* height_field = cam.eye_is_geodetic ? "AtmoViewState.eye_geodetic[2] (height)"
+                                                 : "AtmoViewState.eye_ecef_m (height above the WGS84 ellipsoid)";
+  if (!in_range(&v, height_field, frame.eye.height_m, core::astro::kMinObserverHeightM,
+                core::astro::kMaxObserverHeightM, "m"))
+    return v;
   *out = frame;
   return v;
 }

@@ -18,27 +18,6 @@ namespace {
 
 using namespace plugin_gl;
 
-AtmoCloudLayer cumulus(double base = 1200.0, double top = 2200.0) {
-  AtmoCloudLayer l = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
-  l.type = ATMO_CLOUD_CUMULUS;
-  l.coverage_oktas = 5;
-  l.base_m = base;
-  l.top_m = top;
-  l.area_size_m = 6000.0;
-  l.seed = 4;
-  return l;
-}
-
-AtmoCloudsState clouds_at_innsbruck(const AtmoCloudLayer* layers, uint32_t count) {
-  AtmoCloudsState s = atmo::make<AtmoCloudsState>(ATMO_TYPE_CLOUDS_STATE);
-  s.origin_geodetic[0] = 47.26;
-  s.origin_geodetic[1] = 11.35;
-  s.origin_geodetic[2] = 0.0;
-  s.layers = layers;
-  s.layer_count = count;
-  return s;
-}
-
 AtmoResult raw_set_clouds(Fixture& f, const AtmoCloudsState& s) {
   return f.plugin->api().set_clouds(f.context->handle(), &s);
 }

@@ -145,18 +145,8 @@ TEST(HostCloudShadowInclude, MatchesTheMapAtTheMatrixUv) {
   small.header.struct_size = 16;
   EXPECT_EQ(api.get_cloud_shadows(f.view->handle(), &small), ATMO_ERROR_STRUCT_TOO_SMALL);
 
-  AtmoCloudLayer layer = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
-  layer.type = ATMO_CLOUD_CUMULUS;
-  layer.coverage_oktas = 5;
-  layer.base_m = 1200.0;
-  layer.top_m = 2200.0;
-  layer.area_size_m = 6000.0;
-  layer.seed = 4;
-  AtmoCloudsState s = atmo::make<AtmoCloudsState>(ATMO_TYPE_CLOUDS_STATE);
-  s.origin_geodetic[0] = 47.26;
-  s.origin_geodetic[1] = 11.35;
-  s.layers = &layer;
-  s.layer_count = 1;
+  const AtmoCloudLayer layer = cumulus();
+  const AtmoCloudsState s = clouds_at_innsbruck(&layer, 1);
   ASSERT_EQ(f.context->set_clouds(s), ATMO_SUCCESS);
   ASSERT_EQ(api.get_cloud_shadows(f.view->handle(), &m), ATMO_SUCCESS) << f.context->last_error();
   ASSERT_NE(m.texture, 0u);

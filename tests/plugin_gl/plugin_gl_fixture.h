@@ -80,4 +80,27 @@ inline AtmoViewState innsbruck_view(double height_m, double heading_deg, double 
   return vs;
 }
 
+// A cumulus layer (5 oktas, 6 km area, seed 4) between base and top metres.
+inline AtmoCloudLayer cumulus(double base = 1200.0, double top = 2200.0) {
+  AtmoCloudLayer l = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
+  l.type = ATMO_CLOUD_CUMULUS;
+  l.coverage_oktas = 5;
+  l.base_m = base;
+  l.top_m = top;
+  l.area_size_m = 6000.0;
+  l.seed = 4;
+  return l;
+}
+
+// Cloud layers over innsbruck_view's place (height 0).
+inline AtmoCloudsState clouds_at_innsbruck(const AtmoCloudLayer* layers, uint32_t count) {
+  AtmoCloudsState s = atmo::make<AtmoCloudsState>(ATMO_TYPE_CLOUDS_STATE);
+  s.origin_geodetic[0] = 47.26;
+  s.origin_geodetic[1] = 11.35;
+  s.origin_geodetic[2] = 0.0;
+  s.layers = layers;
+  s.layer_count = count;
+  return s;
+}
+
 }  // namespace plugin_gl

@@ -246,8 +246,11 @@ typedef struct AtmoFrameState {
   AtmoStructHeader header;      /* ATMO_TYPE_FRAME_STATE */
   uint64_t host_frame_number;   /* named in the passes' log lines; no cache or result depends on it
                                    (they follow the state) */
-  double utc_posix_s;           /* simulation time, see above. Must be finite. */
-  double dut1_s;                /* UT1 - UTC in seconds, |dut1| < 1 (IERS Bulletin A); 0 is fine for rendering */
+  double utc_posix_s;           /* simulation time, see above. Valid range [-62 135 596 800, 253 402 300 799] s:
+                                   0001-01-01T00:00:00Z to 9999-12-31T23:59:59Z (docs/EPHEMERIS.md: accuracy
+                                   degrades outside 1900-2100) */
+  double dut1_s;                /* UT1 - UTC in seconds (IERS Bulletin A). Valid range [-0.9, 0.9]; 0 is fine
+                                   for rendering */
 } AtmoFrameState;
 
 typedef enum AtmoPositionKind {
@@ -313,8 +316,11 @@ typedef struct AtmoViewState {
   /* Eye position, double precision; rendering inside is relative to the eye. */
   uint32_t eye_kind;            /* AtmoPositionKind */
   uint32_t world_frame;         /* AtmoWorldFrame of view_from_world's axes */
-  double eye_ecef_m[3];         /* ECEF metres, if eye_kind == ATMO_POSITION_ECEF */
-  double eye_geodetic[3];       /* latitude deg [-90,90], longitude deg, height m above the WGS84 ellipsoid */
+  double eye_ecef_m[3];         /* ECEF metres, if eye_kind == ATMO_POSITION_ECEF; its height must be valid (below) */
+  /* latitude deg [-90,90], longitude deg [-1e4, 1e4], height m above the WGS84 ellipsoid.
+     Eye height valid range (either kind) [-1000, 1e7] m: every pass draws, and the Sun, Moon,
+     planets and stars are placed for the eye's height (the Moon's parallax) up to 10 000 km. */
+  double eye_geodetic[3];
   double world_origin_geodetic[3]; /* origin of the ENU world frame (lat deg, lon deg, h m); ATMO_WORLD_ENU only */
 
   /* The host's view matrix. Only its rotation is used (the eye is given above),

@@ -32,7 +32,9 @@ std::optional<Observer> observer_from_geodetic(double latitude_deg, double longi
     return std::nullopt;
   }
   if (!std::isfinite(height_m) || height_m < kMinObserverHeightM || height_m > kMaxObserverHeightM) {
-    fail(error, "height", height_m, "[-1000, 1000000] m");
+    char range[64];
+    std::snprintf(range, sizeof range, "[%g, %g] m", kMinObserverHeightM, kMaxObserverHeightM);
+    fail(error, "height", height_m, range);
     return std::nullopt;
   }
   double lon = std::remainder(longitude_deg, 360.0);  // [-180, 180]

@@ -11,9 +11,14 @@
 
 namespace atmo::core::astro {
 
-// Heights accepted: the Dead Sea shore (-430 m) to well above the atmosphere.
+// Heights accepted, above the WGS84 ellipsoid: the one range of the eye's
+// height (the ABI checks AtmoViewState's eye against it). From 1000 m below
+// it (the Dead Sea shore is at -430 m; the standard atmosphere's refraction
+// conditions stay valid there) to 10 000 km, a view from orbit. The observer
+// is at rest in the Earth-fixed frame (its velocity, for the diurnal
+// aberration, is the Earth's rotation at its position).
 constexpr double kMinObserverHeightM = -1000.0;
-constexpr double kMaxObserverHeightM = 1.0e6;
+constexpr double kMaxObserverHeightM = 1.0e7;
 
 struct Observer {
   double latitude_rad = 0.0;   // geodetic, north positive, [-pi/2, pi/2]
@@ -22,7 +27,8 @@ struct Observer {
 };
 
 // Degrees in, validated: latitude in [-90, 90], longitude finite (wrapped to
-// (-180, 180]), height in [-1000 m, 1000 km]. nullopt + message otherwise.
+// (-180, 180]), height in [kMinObserverHeightM, kMaxObserverHeightM]. nullopt
+// + message otherwise.
 std::optional<Observer> observer_from_geodetic(double latitude_deg, double longitude_deg, double height_m,
                                                std::string* error);
 

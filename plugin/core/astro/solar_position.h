@@ -1,6 +1,8 @@
 // solar_position.h — a low-precision solar position (Astronomical Almanac
-// formula, ~0.01° 1950–2050) used until the ephemeris module (ERFA) replaces
-// it. Time is POSIX UTC seconds; UT1 = UTC + dut1_s for the Earth's rotation.
+// formula, ~0.01° 1950–2050). The plugin draws with the ephemeris
+// (core/astro/sky_bodies.h) alone; this formula is kept as an independent rough
+// check for the tests. Time is POSIX UTC seconds; UT1 = UTC + dut1_s for the
+// Earth's rotation.
 #pragma once
 
 #include <glm/glm.hpp>

@@ -13,8 +13,6 @@ namespace {
 constexpr double kJdUnixEpoch = 2440587.5;       // 1970-01-01T00:00:00
 constexpr double kJdUtcStart = 2436934.5;        // 1960-01-01T00:00:00: UTC begins
 constexpr double kMaxAbsDeltaTS = 1.0e5;         // a sanity bound on a user Delta T
-constexpr double kPosixYear1 = -62135596800.0;   // 0001-01-01T00:00:00Z
-constexpr double kPosixYear10000 = 253402300800.0;  // 10000-01-01T00:00:00Z
 
 bool fail(std::string* error, const std::string& why) {
   if (error) *error = why;
@@ -342,7 +340,7 @@ std::optional<TimeScales> time_scales_from_utc(const CalendarTime& c, const Time
 
 std::optional<TimeScales> time_scales_from_posix(double posix_s, const TimeScaleOptions& options,
                                                  std::string* error) {
-  if (!std::isfinite(posix_s) || posix_s < kPosixYear1 || posix_s >= kPosixYear10000) {
+  if (!std::isfinite(posix_s) || posix_s < kMinPosixUtcS || posix_s > kMaxPosixUtcS) {
     char buf[128];
     std::snprintf(buf, sizeof buf, "POSIX UTC time %g s is not a finite time in the years 0001-9999", posix_s);
     fail(error, buf);

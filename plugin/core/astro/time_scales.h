@@ -63,7 +63,13 @@ const char* to_string(DeltaTSource source);
 // (flagged), they do not fail.
 constexpr int kFirstValidatedYear = 1900;
 constexpr int kLastValidatedYear = 2100;
+// The one range of each input (the ABI checks AtmoFrameState against them):
+// |DUT1| <= 0.9 s (the IERS keeps UT1 - UTC within it by leap seconds), and
+// UTC in the years 0001-9999, as POSIX seconds [kMinPosixUtcS, kMaxPosixUtcS]
+// (0001-01-01T00:00:00Z to 9999-12-31T23:59:59Z).
 constexpr double kMaxAbsDut1S = 0.9;
+constexpr double kMinPosixUtcS = -62135596800.0;
+constexpr double kMaxPosixUtcS = 253402300799.0;
 
 struct TimeScaleOptions {
   double dut1_s = 0.0;              // UT1 - UTC in seconds, |DUT1| <= 0.9

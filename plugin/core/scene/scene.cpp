@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
-
-#include "core/astro/solar_position.h"
 
 namespace atmo::core {
 
@@ -36,21 +35,11 @@ BodyIlluminance body_illuminance(const Scene& scene, const twin::Lut2D& transmit
   return b;
 }
 
-SkyBodies low_precision_sky_bodies(double utc_posix_s, double dut1_s, const EyeFrame& eye) {
-  SkyBodies b;
-  SunPosition sun = solar_position(utc_posix_s, dut1_s);
-  b.sun_enu = enu_from_ecef_direction(eye, sun.direction_ecef);
-  b.sun_distance_au = sun.distance_au;
-  b.moon_enu = glm::dvec3(0.0, 0.0, -1.0);
-  b.moon_illuminance_rgb_lux = glm::dvec3(0.0);
-  b.note = "the ephemeris failed: low-precision Sun, no Moon";
-  return b;
-}
-
 Scene make_scene(const AtmosphereSettings& settings, double utc_posix_s, double dut1_s, const EyeFrame& eye) {
   std::string error;
   std::optional<SkyBodies> bodies = compute_sky_bodies(utc_posix_s, dut1_s, eye.eye, &error);
-  return make_scene(settings, bodies ? *bodies : low_precision_sky_bodies(utc_posix_s, dut1_s, eye), eye);
+  if (!bodies) throw std::invalid_argument("make_scene: the ephemeris refused the time or the eye: " + error);
+  return make_scene(settings, *bodies, eye);
 }
 
 }  // namespace atmo::core

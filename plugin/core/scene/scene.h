@@ -25,9 +25,10 @@ constexpr double kSphereRadiusQuantumM = 10000.0;
 
 Scene make_scene(const AtmosphereSettings& settings, const SkyBodies& bodies, const EyeFrame& eye);
 
-// The same with the bodies computed here (uncached; ~0.3 ms). Should the
-// ephemeris reject the time, the Sun falls back to the low-precision formula
-// of core/astro/solar_position.h and the Moon is put below the horizon.
+// The same with the bodies computed here (uncached; ~0.3 ms). Throws
+// std::invalid_argument, naming the ephemeris's reason, for a time or an eye
+// outside its ranges (core/astro/time_scales.h, core/astro/observer.h): there
+// is no low-precision stand-in.
 Scene make_scene(const AtmosphereSettings& settings, double utc_posix_s, double dut1_s, const EyeFrame& eye);
 
 // The Sun's and the Moon's illuminance after the air at an altitude (above
@@ -38,8 +39,5 @@ struct BodyIlluminance {
   glm::dvec3 moon_lux{0.0};
 };
 BodyIlluminance body_illuminance(const Scene& scene, const twin::Lut2D& transmittance, double altitude_m);
-
-// The fallback above, also for a cache that failed.
-SkyBodies low_precision_sky_bodies(double utc_posix_s, double dut1_s, const EyeFrame& eye);
 
 }  // namespace atmo::core

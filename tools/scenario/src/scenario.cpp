@@ -58,7 +58,7 @@ const std::vector<std::string>& shape(const char* name) {
 constexpr std::int64_t kMaxSeed = 9007199254740991;  // 2^53 - 1: exact in any JSON reader
 const Range kLatitude = Range::closed(-90, 90);
 const Range kLongitude = Range::closed(-180, 180);
-const Range kHeight = Range::closed(-1000, 1e6);
+const Range kHeight = Range::closed(-1000, 1e7);  // the ABI's eye height (atmo.h)
 
 bool camera_name_ok(const std::string& s) {
   if (s.empty() || s.size() > 64 || !std::isalnum(static_cast<unsigned char>(s[0]))) return false;
@@ -97,7 +97,7 @@ class Loader {
       geodetic(*v, r.child("location"), &s->location);
     }
     utc(r, s);
-    if (auto v = r.number("dut1_s", Range::open(-1, 1), 0.0)) s->dut1_s = *v;
+    if (auto v = r.number("dut1_s", Range::closed(-0.9, 0.9), 0.0)) s->dut1_s = *v;  // the ABI's range (atmo.h)
     if (const json* v = r.field("cameras", true, "an array of at least 1 camera")) {
       cameras(*v, r.child("cameras"), s);
     }

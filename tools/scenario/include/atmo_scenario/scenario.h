@@ -33,7 +33,7 @@ struct Notice {
 struct GeodeticPoint {
   double latitude_deg = 0.0;   // [-90, 90]
   double longitude_deg = 0.0;  // [-180, 180]
-  double height_m = 0.0;       // above the ellipsoid, [-1000, 1e6]
+  double height_m = 0.0;       // above the ellipsoid, [-1000, 1e7]
 };
 
 // A point given either in east-north-up metres from Scenario::location
@@ -169,7 +169,7 @@ struct Scenario {
   GeodeticPoint location;   // ENU origin of every enu_m in the file
   std::string utc;          // as written
   double utc_posix_s = 0.0; // utc as POSIX seconds
-  double dut1_s = 0.0;      // UT1 - UTC, (-1, 1)
+  double dut1_s = 0.0;      // UT1 - UTC, [-0.9, 0.9] s
 
   std::vector<Camera> cameras;  // at least one
   Atmosphere atmosphere;
