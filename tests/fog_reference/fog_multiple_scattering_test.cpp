@@ -106,12 +106,9 @@ TEST(FogMultipleScattering, ModelAgainstMonteCarlo) {
                                                                    static_cast<float>(D),
                                                                    static_cast<float>(std::cos(gamma)), fog::kNoTop,
                                                                    0.0f);
-    // The fog pass: the field at the eye (make_fog_frame sums the twin's fluence and flux towards the light),
-    // seen along the ray through the whole visible depth, (1 - e^{-beta L}) max((F + 3 flux . dir) / 4 pi, 0).
-    const glm::vec2 p1 = fog::twin::atmo_fog_diffusion_light(diffusion, static_cast<float>(D),
-                                                             static_cast<float>(kBeta * D), false);
-    const double medium_radiance = (1.0 - std::exp(-kBeta * 1.0e6)) *
-                                   std::max((p1.x + 3.0 * p1.y * std::cos(gamma)) / (4.0 * kPi), 0.0);
+    // The fog pass: the field at the eye seen along the ray through the whole visible depth (the twin).
+    const double medium_radiance = fog::twin::atmo_fog_pass_one_light(
+        diffusion, static_cast<float>(kBeta), static_cast<float>(D), static_cast<float>(std::cos(gamma)));
     r.model = airlight + medium_radiance;
     std::printf("[ measured ] %5g  %5g  %8llu  %.3e  %5.3f  %6.3f  %6.3f\n", c.thickness, c.gamma_deg,
                 static_cast<unsigned long long>(c.paths), r.mc, r.mc_se / r.mc, r.ss / r.mc, r.model / r.mc);
