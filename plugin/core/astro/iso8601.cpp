@@ -59,7 +59,7 @@ std::optional<CalendarTime> parse_iso8601(const std::string& s, std::string* err
   const std::string quoted = "'" + s + "'";
   int year, month, day, hour, minute, second;
   if (!(digits(s, 0, 4, &year) && s.size() > 4 && s[4] == '-' && digits(s, 5, 2, &month) && s.size() > 7 &&
-        s[7] == '-' && digits(s, 8, 2, &day) && s.size() > 10 && (s[10] == 'T' || s[10] == 't') && digits(s, 11, 2, &hour) &&
+        s[7] == '-' && digits(s, 8, 2, &day) && s.size() > 10 && s[10] == 'T' && digits(s, 11, 2, &hour) &&
         s.size() > 13 && s[13] == ':' && digits(s, 14, 2, &minute) && s.size() > 16 && s[16] == ':' &&
         digits(s, 17, 2, &second)))
     return fail(error, quoted + " is " + kForm);
@@ -81,7 +81,7 @@ std::optional<CalendarTime> parse_iso8601(const std::string& s, std::string* err
     fraction = static_cast<double>(numerator) / static_cast<double>(denominator);
   }
   int offset_min = 0;
-  if (pos < s.size() && (s[pos] == 'Z' || s[pos] == 'z')) {
+  if (pos < s.size() && s[pos] == 'Z') {
     ++pos;
   } else if (pos < s.size() && (s[pos] == '+' || s[pos] == '-')) {
     int oh, om;

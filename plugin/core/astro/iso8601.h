@@ -3,8 +3,8 @@
 // scenario loader (tools/scenario) and the sample host. Pure C++, no library.
 //
 // The form: "YYYY-MM-DDThh:mm:ss[.f...]Z", or "+hh:mm" / "-hh:mm" in place of
-// Z (the offset is removed: the result is UTC). T and Z in either case (RFC
-// 3339, 5.6); years
+// Z (the offset is removed: the result is UTC). Upper-case T and Z, as the
+// scenario schema's pattern (config/scenario.schema.json); years
 // 0000-9999; a leap second (ss = 60) is accepted as a calendar time (the
 // ephemeris checks it against the leap-second table) but has no POSIX time.
 // Fractions of any length are read exactly (integer digits, one division).
