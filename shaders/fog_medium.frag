@@ -14,13 +14,6 @@ uniform mat3 u_fog_flux;            // column c: channel c's flux vector towards
 layout(location = 0, index = 0) out vec4 out_light;
 layout(location = 0, index = 1) out vec4 out_transmittance;
 
-// Length of [0, d] along a ray from the eye (direction's up part dir_z) below the fog top.
-float fog_length(float d, float dir_z, float top) {
-  if (top >= ATMO_FOG_FAR) return d;
-  if (top > 0.0) return dir_z > 0.0 ? min(d, top / dir_z) : d;        // the eye in the fog
-  return dir_z < 0.0 ? max(d - top / dir_z, 0.0) : 0.0;                  // above it: from where the ray enters
-}
-
 void main() {
   vec2 ndc = ndc_xy();
   // Without a host depth texture every pixel is open sky (w < 0).
@@ -30,11 +23,8 @@ void main() {
   vec3 ray = p.w < 0.0 ? view_ray_from_ndc(u_view_from_clip, ndc, u_depth_convention) : p.xyz;
   vec3 dir = normalize(u_enu_from_view * ray);
   float d = p.w < 0.0 ? ATMO_FOG_FAR : length(p.xyz);
-  float inside = fog_length(d, dir.z, u_fog.z);
-  float transmittance = exp(-u_fog.x * min(inside, 1.0e6));
-  // Radiance of the diffusion field looking along dir: (fluence + 3 flux . dir) / 4 pi, per channel.
-  vec3 diffusion = max((u_fog_fluence + 3.0 * (transpose(u_fog_flux) * dir)) / (4.0 * ATMO_FOG_PI), vec3(0.0));
-  vec3 light = (1.0 - transmittance) * (u_fog_ambient + diffusion);
+  float transmittance = atmo_fog_transmittance(u_fog.x, atmo_fog_ray_length(d, dir.z, u_fog.z));
+  vec3 light = atmo_fog_medium_light(transmittance, u_fog_ambient, u_fog_fluence, u_fog_flux, dir);
   out_light = vec4(encode_output(light), 0.0);
   out_transmittance = vec4(vec3(transmittance), 1.0);
 }

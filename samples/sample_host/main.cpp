@@ -78,8 +78,9 @@ int main(int argc, char** argv) {
   app.add_flag("--verbose", options.verbose, "Print the plugin's debug and info messages");
   CLI11_PARSE(app, argc, argv);
 
-  if (!sample::parse_utc(utc, &settings.utc_posix_s)) {
-    std::fprintf(stderr, "atmo-sample-host: --utc: cannot read '%s'\n", utc.c_str());
+  std::string utc_error;
+  if (!sample::parse_utc(utc, &settings.utc_posix_s, &utc_error)) {
+    std::fprintf(stderr, "atmo-sample-host: --utc: %s\n", utc_error.c_str());
     return 2;
   }
   atmo::host_scene::parse_depth_convention(depth.c_str(), &settings.depth_convention);

@@ -3,11 +3,17 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <string_view>
 
 #include <glad/gl.h>
 
 #include "atmo_host_scene/depth_setup.h"
 #include "atmo_host_scene/gl_program.h"
+
+namespace atmo::sample::embedded_glsl {
+std::string_view find(std::string_view path);
+}
 
 namespace atmo::sample {
 
@@ -27,21 +33,13 @@ void main() {
 }
 )";
 
-// Same curve as atmo::support::tone_map_to_display (exposure is already in the
-// HDR values): Narkowicz's ACES fit, then the sRGB transfer function.
+// The plugin's display encoding (exposure is already in the HDR values):
+// host_sdk/include/atmo/atmo_tone_map.glsl, embedded at build time, goes first.
 const char* kToneMapFragment = R"(
 uniform sampler2D u_hdr;
 layout(location = 0) out vec4 o_color;
-float aces(float x) {
-  x = max(x, 0.0);
-  return clamp(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
-}
-float srgb(float c) {
-  return c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
-}
 void main() {
-  vec3 c = texelFetch(u_hdr, ivec2(gl_FragCoord.xy), 0).rgb;
-  o_color = vec4(srgb(aces(c.r)), srgb(aces(c.g)), srgb(aces(c.b)), 1.0);
+  o_color = vec4(atmo_display_srgb(texelFetch(u_hdr, ivec2(gl_FragCoord.xy), 0).rgb), 1.0);
 }
 )";
 
@@ -121,7 +119,8 @@ bool SampleRenderer::gl_init(uint64_t terrain_seed, std::string* error) {
   options.seed = terrain_seed;
   terrain_ = std::make_unique<hs::Terrain>(options);
   if (!terrain_->gl_init(error)) return false;
-  tone_map_program_ = hs::build_program(kToneMapVertex, kToneMapFragment, "", "sample tone map", error);
+  const std::string fragment = std::string(embedded_glsl::find("atmo/atmo_tone_map.glsl")) + kToneMapFragment;
+  tone_map_program_ = hs::build_program(kToneMapVertex, fragment.c_str(), "", "sample tone map", error);
   if (!tone_map_program_) return false;
   glGenVertexArrays(1, &empty_vao_);
   timers_.gl_init(kSectionCount);

@@ -24,13 +24,10 @@ struct SceneSettings {
   uint64_t seed = 1;
 };
 
-// Days since 1970-01-01 of a proleptic Gregorian date, and back.
-int64_t days_from_civil(int year, int month, int day);
-void civil_from_days(int64_t days, int* year, int* month, int* day);
-
-// "2024-06-21T15:00:00Z", "2024-06-21T15:00Z", "2024-06-21 15:00:00" (UTC),
-// or POSIX seconds ("1718982000"). False if it is neither.
-bool parse_utc(const std::string& text, double* posix_s);
+// POSIX seconds ("1718982000") or an ISO 8601 UTC time stamp, read by the
+// plugin's parser (core/astro/iso8601.h: "2024-06-21T15:00:00Z",
+// "2024-06-21T17:00:00+02:00"). False with *error saying why if neither.
+bool parse_utc(const std::string& text, double* posix_s, std::string* error);
 std::string format_utc(double posix_s);  // "2024-06-21T15:00:00Z"
 
 // The fixed headless flight path, t in [0, 1]: a straight-in approach on a

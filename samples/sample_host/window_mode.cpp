@@ -20,6 +20,7 @@
 
 #include "atmo_host_scene/depth_setup.h"
 #include "atmo_support/image.h"
+#include "core/astro/iso8601.h"
 #include "modes.h"
 #include "sample_renderer.h"
 
@@ -142,14 +143,19 @@ void draw_panel(const SampleRenderer& renderer, const FrameReport& report, FlyCa
   if (ImGui::CollapsingHeader("Time (UTC)", ImGuiTreeNodeFlags_DefaultOpen)) {
     const double days = std::floor(s->utc_posix_s / 86400.0);
     float hours = static_cast<float>((s->utc_posix_s - days * 86400.0) / 3600.0);
-    int ymd[3];
-    civil_from_days(static_cast<int64_t>(days), &ymd[0], &ymd[1], &ymd[2]);
+    std::int64_t year = 0;
+    unsigned month = 0, day = 0;
+    core::astro::civil_from_days(static_cast<std::int64_t>(days), &year, &month, &day);
+    int ymd[3] = {static_cast<int>(year), static_cast<int>(month), static_cast<int>(day)};
     bool changed = ImGui::InputInt3("Date Y-M-D", ymd);
     changed |= ImGui::SliderFloat("Time of day (h)", &hours, 0.0f, 24.0f, "%.2f");
     if (changed) {
       ymd[1] = std::clamp(ymd[1], 1, 12);
-      ymd[2] = std::clamp(ymd[2], 1, 31);
-      s->utc_posix_s = static_cast<double>(days_from_civil(ymd[0], ymd[1], ymd[2])) * 86400.0 + hours * 3600.0;
+      ymd[2] = std::clamp(ymd[2], 1, static_cast<int>(core::astro::days_in_month(ymd[0], static_cast<unsigned>(ymd[1]))));
+      s->utc_posix_s = static_cast<double>(core::astro::days_from_civil(ymd[0], static_cast<unsigned>(ymd[1]),
+                                                                        static_cast<unsigned>(ymd[2]))) *
+                           86400.0 +
+                       hours * 3600.0;
     }
     ImGui::Checkbox("Animate", &panel->animate_time);
     ImGui::SameLine();

@@ -603,11 +603,9 @@ ATMO_FN float aerial_geometric_range(IN(AtmosphereParameters) atm, float eye_alt
 
 // --- Output encoding -----------------------------------------------------------
 
-// Narkowicz 2015 fit of the ACES filmic curve, then the sRGB transfer function.
-ATMO_FN vec3 encode_display_srgb(IN(vec3) exposed) {
-  vec3 x = max(exposed, vec3(0.0f));
-  vec3 mapped = clamp((x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f), vec3(0.0f), vec3(1.0f));
-  vec3 lo = mapped * 12.92f;
-  vec3 hi = 1.055f * pow(mapped, vec3(1.0f / 2.4f)) - 0.055f;
-  return mix(lo, hi, step(vec3(0.0031308f), mapped));
-}
+// Narkowicz 2015 fit of the ACES filmic curve, then the sRGB transfer
+// function: the one tone map of host_sdk/include/atmo/atmo_tone_map.glsl.
+#define ATMO_TONE_FN ATMO_FN
+#include "../host_sdk/include/atmo/atmo_tone_map.glsl"
+#undef ATMO_TONE_FN
+ATMO_FN vec3 encode_display_srgb(IN(vec3) exposed) { return atmo_display_srgb(exposed); }

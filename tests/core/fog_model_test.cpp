@@ -167,3 +167,43 @@ TEST(FogGlowBound, BoundsTheAirlightAndShrinksWithDistance) {
 }
 
 }  // namespace
+
+// The fog pass's per-ray functions (fog_medium.frag calls them from atmo_fog_lights.glsl), through the twin:
+// the length below the fog top against a midpoint count along the ray, the transmittance and the P1 radiance
+// against their formulas written out here.
+TEST(FogPassTwin, RayLengthBelowTheTopMatchesACountAlongTheRay) {
+  struct Case { float d, dir_z, top; };
+  const Case cases[] = {{1000, 0.5f, 100},  {150, 0.5f, 100},    {1000, -0.3f, 100}, {1000, 0.0f, 100},
+                        {1000, -0.5f, -100}, {150, -0.5f, -100}, {1000, 0.4f, -100}, {1000, 0.0f, -100},
+                        {500, 1.0f, 20},    {500, -1.0f, -499},  {500, -1.0f, -501}};
+  for (const Case& c : cases) {
+    const int n = 200000;
+    int below = 0;
+    for (int i = 0; i < n; ++i) below += (i + 0.5) / n * c.d * c.dir_z < c.top;
+    const double counted = c.d * below / n;
+    const float got = twin::atmo_fog_ray_length(c.d, c.dir_z, c.top);
+    std::printf("[ fog pass ] d %6.0f m, dir_z %+5.2f, top %+5.0f m: length below the top %8.3f m (count %8.3f m)\n",
+                c.d, c.dir_z, c.top, got, counted);
+    EXPECT_NEAR(got, counted, 1e-5 * c.d + 1e-3);
+  }
+  EXPECT_EQ(twin::atmo_fog_ray_length(1234.0f, 0.7f, kNoTop), 1234.0f);  // no top: the whole ray
+  EXPECT_EQ(twin::atmo_fog_ray_length(twin::ATMO_FOG_FAR, 0.7f, kNoTop), twin::ATMO_FOG_FAR);
+}
+
+TEST(FogPassTwin, TransmittanceAndDiffusionRadiance) {
+  EXPECT_NEAR(twin::atmo_fog_transmittance(0.01f, 100.0f), std::exp(-1.0), 1e-7);
+  EXPECT_EQ(twin::atmo_fog_transmittance(0.0f, twin::ATMO_FOG_FAR), 1.0f);   // no fog, open sky: not NaN
+  EXPECT_EQ(twin::atmo_fog_transmittance(1e-3f, twin::ATMO_FOG_FAR), 0.0f);  // 1e6 m of it
+  // (F + 3 flux . dir) / 4 pi per channel, floored at 0: channel 0 sees the light ahead, channel 1 behind it.
+  const glm::vec3 fluence(1.0f, 2.0f, 0.5f);
+  const glm::mat3 flux(glm::vec3(0.2f, 0.0f, 0.0f), glm::vec3(-0.8f, 0.0f, 0.0f), glm::vec3(0.0f, 0.1f, 0.0f));
+  const glm::vec3 dir(0.6f, 0.8f, 0.0f);
+  const glm::vec3 l = twin::atmo_fog_diffusion_radiance(fluence, flux, dir);
+  const double expected[3] = {(1.0 + 3.0 * 0.2 * 0.6) / (4.0 * kPi), std::max((2.0 - 3.0 * 0.8 * 0.6) / (4.0 * kPi), 0.0),
+                              (0.5 + 3.0 * 0.1 * 0.8) / (4.0 * kPi)};
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(l[c], expected[c], 1e-6) << "channel " << c;
+  const glm::mat3 against(glm::vec3(-1.0f, 0.0f, 0.0f), glm::vec3(0.0f), glm::vec3(0.0f));
+  EXPECT_EQ(twin::atmo_fog_diffusion_radiance(glm::vec3(1.0f, 0.0f, 0.0f), against, glm::vec3(1.0f, 0.0f, 0.0f)).x, 0.0f);
+  const glm::vec3 m = twin::atmo_fog_medium_light(0.25f, glm::vec3(10.0f), fluence, flux, dir);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(m[c], 0.75 * (10.0 + expected[c]), 1e-5) << "channel " << c;
+}

@@ -5,6 +5,8 @@
 #include <erfam.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -112,7 +114,7 @@ TEST(TimeScale, Iso8601OffsetsAndFractions) {
   // Across a year boundary.
   EXPECT_NEAR(seconds(from_iso("2025-01-01T00:30:00+01:00").tt, from_iso("2024-12-31T23:30:00Z").tt), 0.0, 1e-6);
   EXPECT_NEAR(seconds(from_iso("2024-12-15T03:00:00.250Z").tt, from_iso("2024-12-15T03:00:00Z").tt), 0.25, 1e-6);
-  EXPECT_NEAR(seconds(from_iso("2024-12-15t03:00:00.000001z").tt, from_iso("2024-12-15T03:00:00Z").tt), 1e-6, 1e-7);
+  EXPECT_NEAR(seconds(from_iso("2024-12-15T03:00:00.000001Z").tt, from_iso("2024-12-15T03:00:00Z").tt), 1e-6, 1e-7);
   std::string error;
   const auto c = astro::parse_iso8601("2000-02-29T12:00:00Z", &error);
   ASSERT_TRUE(c) << error;
@@ -222,4 +224,92 @@ TEST(TimeScale, FormatsJulianDates) {
   const astro::TimeScales t = from_iso("2016-12-31T23:59:60.250Z");
   EXPECT_EQ(astro::format_julian_date(t.utc, true), "2016-12-31T23:59:60.250");
   EXPECT_EQ(astro::format_julian_date(from_iso("2024-12-15T03:00:00Z").tt, false), "2024-12-15T03:01:09.184");
+}
+
+// The calendar of the one ISO 8601 parser (core/astro/iso8601.h; moved from tools/scenario, whose copy and the
+// sample host's were two of them).
+TEST(Iso8601Calendar, RoundTrip) {
+  for (std::int64_t days = -800000; days <= 3000000; ++days) {  // years ~-220 to ~10183
+    std::int64_t y;
+    unsigned m, d;
+    astro::civil_from_days(days, &y, &m, &d);
+    ASSERT_GE(m, 1u);
+    ASSERT_LE(m, 12u);
+    ASSERT_GE(d, 1u);
+    ASSERT_LE(d, astro::days_in_month(y, m));
+    ASSERT_EQ(astro::days_from_civil(y, m, d), days) << y << "-" << m << "-" << d;
+  }
+  EXPECT_EQ(astro::days_from_civil(1970, 1, 1), 0);
+  EXPECT_EQ(astro::days_from_civil(2000, 3, 1), 11017);
+  EXPECT_TRUE(astro::is_leap_year(2000));
+  EXPECT_FALSE(astro::is_leap_year(1900));
+  EXPECT_TRUE(astro::is_leap_year(2024));
+  EXPECT_FALSE(astro::is_leap_year(2023));
+  EXPECT_EQ(astro::days_in_month(2023, 2), 28u);
+  EXPECT_EQ(astro::days_in_month(2024, 2), 29u);
+  EXPECT_EQ(astro::days_in_month(2024, 13), 0u);
+}
+
+
+// Where the three parsers (core/astro/time_scales, tools/scenario/iso8601 and the sample host's
+// scene_settings) disagreed, the one parser gives one answer, as a calendar time and as POSIX seconds (the
+// scenario loader and the sample host read it so). Before: the core summed the fraction's digits times 0.1^k
+// (".3" came out 0.30000000000000004 s) and accepted "t" and "z", which the scenario loader and its schema refuse; the sample host accepted 2024-02-30 (as
+// March 1), "2024-06-21 15:00:00" and 23:59:60.5 as POSIX time, and refused any offset; the scenario's
+// day error named no date in the core's words.
+TEST(Iso8601Calendar, OneParserForTheCasesThatDisagreed) {
+  struct Case {
+    const char* text;
+    bool calendar_ok, posix_ok;
+    double posix_s;  // expected POSIX seconds (Python's datetime), when posix_ok
+    const char* error;  // part of the message, when rejected
+  };
+  const Case cases[] = {
+      {"2024-06-21T11:00:00.1234567890123Z", true, true, 1718967600.1234567890123, ""},
+      {"2024-06-21T11:00:00.5Z", true, true, 1718967600.5, ""},
+      {"2024-06-21T13:00:00+02:00", true, true, 1718967600.0, ""},
+      {"2025-01-01T01:00:00+02:00", true, true, 1735686000.0, ""},  // back across a year
+      {"2024-12-31T23:30:00-01:00", true, true, 1735691400.0, ""},  // forward across a year
+      {"2016-12-31T23:59:60Z", true, false, 0.0, "leap second"},
+      {"2016-12-31T23:59:60.5Z", true, false, 0.0, "leap second"},
+      {"2017-01-01T00:59:60+01:00", true, false, 0.0, "leap second"},
+      {"1900-01-01T00:00:00Z", true, true, -2208988800.0, ""},
+      {"0001-01-01T00:00:00Z", true, true, -62135596800.0, ""},
+      {"2100-03-01T00:00:00Z", true, true, 4107542400.0, ""},
+      {"2040-02-29T12:00:00Z", true, true, 2214129600.0, ""},  // past 2038 (32-bit time_t)
+      {"9999-12-31T23:59:59Z", true, true, 253402300799.0, ""},
+      {"2024-02-30T00:00:00Z", false, false, 0.0, "day 30 does not exist in 2024-02 (2024-02 has 29 days)"},
+      {"2100-02-29T00:00:00Z", false, false, 0.0, "day 29 does not exist in 2100-02"},
+      {"2024-06-21 15:00:00Z", false, false, 0.0, "not of the form"},
+      {"2024-06-21T15:00Z", false, false, 0.0, "not of the form"},
+      {"2024-06-21t15:00:00Z", false, false, 0.0, "not of the form"},  // as the scenario schema
+      {"2024-06-21T15:00:00z", false, false, 0.0, "no time zone"},
+      {"2024-06-21T15:00:00", false, false, 0.0, "no time zone"},
+      {"12024-06-21T15:00:00Z", false, false, 0.0, "not of the form"},
+  };
+  for (const Case& c : cases) {
+    std::string calendar_error, posix_error;
+    const auto calendar = astro::parse_iso8601(c.text, &calendar_error);
+    const auto posix = astro::parse_iso8601_posix(c.text, &posix_error);
+    std::printf("[ iso8601 ] %-36s calendar %s, POSIX %s\n", c.text,
+                calendar ? "ok" : calendar_error.c_str(),
+                posix ? std::to_string(*posix).c_str() : posix_error.c_str());
+    EXPECT_EQ(calendar.has_value(), c.calendar_ok) << c.text << ": " << calendar_error;
+    EXPECT_EQ(posix.has_value(), c.posix_ok) << c.text << ": " << posix_error;
+    if (c.posix_ok && posix) {
+      EXPECT_NEAR(*posix, c.posix_s, 1e-6) << c.text;
+    }
+    if (!c.posix_ok) {
+      EXPECT_NE(posix_error.find(c.error), std::string::npos) << c.text << ": " << posix_error;
+    }
+    if (!c.calendar_ok) {
+      EXPECT_EQ(calendar_error, posix_error) << c.text;
+    }
+  }
+  // The fraction is read exactly (one division), whatever its length.
+  EXPECT_EQ(astro::parse_iso8601("2024-06-21T11:00:00.3Z", nullptr)->second, 0.3);
+  EXPECT_EQ(astro::parse_iso8601("2024-06-21T11:00:00.1234567890123Z", nullptr)->second, 0.1234567890123);
+  // The leap second stays a calendar time, for the leap-second table.
+  EXPECT_EQ(astro::parse_iso8601("2017-01-01T00:59:60.25+01:00", nullptr)->second, 60.25);
+  EXPECT_EQ(astro::parse_iso8601("2017-01-01T00:59:60.25+01:00", nullptr)->day, 31);
 }

@@ -106,12 +106,9 @@ TEST(FogMultipleScattering, ModelAgainstMonteCarlo) {
                                                                    static_cast<float>(D),
                                                                    static_cast<float>(std::cos(gamma)), fog::kNoTop,
                                                                    0.0f);
-    // The fog pass: the field at the eye (make_fog_frame sums the twin's fluence and flux towards the light),
-    // seen along the ray through the whole visible depth, (1 - e^{-beta L}) max((F + 3 flux . dir) / 4 pi, 0).
-    const glm::vec2 p1 = fog::twin::atmo_fog_diffusion_light(diffusion, static_cast<float>(D),
-                                                             static_cast<float>(kBeta * D), false);
-    const double medium_radiance = (1.0 - std::exp(-kBeta * 1.0e6)) *
-                                   std::max((p1.x + 3.0 * p1.y * std::cos(gamma)) / (4.0 * kPi), 0.0);
+    // The fog pass: the field at the eye seen along the ray through the whole visible depth (the twin).
+    const double medium_radiance = fog::twin::atmo_fog_pass_one_light(
+        diffusion, static_cast<float>(kBeta), static_cast<float>(D), static_cast<float>(std::cos(gamma)));
     r.model = airlight + medium_radiance;
     std::printf("[ measured ] %5g  %5g  %8llu  %.3e  %5.3f  %6.3f  %6.3f\n", c.thickness, c.gamma_deg,
                 static_cast<unsigned long long>(c.paths), r.mc, r.mc_se / r.mc, r.ss / r.mc, r.model / r.mc);
@@ -170,19 +167,29 @@ TEST(FogMultipleScattering, ModelAgainstMonteCarlo) {
   // is beyond -80 %.
   for (double e : bands[2].ss) EXPECT_LT(e, -0.9);
   EXPECT_LT(median(bands[1].ss), -0.8);
-  // The model (SS + the diffusion term with the fitted handover) recovers most of it. Measured on these cases
-  // with three seeds (docs/measurements/fog_multiple_scattering.md): median |ln(model / mc)| 0.30-0.41 thick,
-  // 0.50-0.61 medium, 0.25-0.40 thin (single scattering: 9.4-9.7, 2.6, 0.75-1.05). The full grid has
-  // model / mc from 0.20 (T = 4, 10 deg: the forward lobe of the multiple scattering, which P1 cannot hold)
-  // to 2.13 (T = 2, 90 deg: the P1 cosine lobe spreads that light sideways). Rate 0 fails the thick band;
-  // the former handover (fluence and flux both 1 - exp(-0.5 T)) fails the T = 2, 150 deg case (0.014).
-  EXPECT_LT(median(log_model[2]), std::log(1.8));
-  EXPECT_LT(median(log_model[1]), std::log(2.8));
-  EXPECT_LT(median(log_model[1]), 0.5 * median(log_ss[1]));
-  EXPECT_LT(median(log_model[0]), std::log(1.6));
-  EXPECT_LT(median(log_model[0]), median(log_ss[0]));
-  for (const Row& r : rows) {
-    EXPECT_GT(r.model, 0.15 * (r.mc - 2.0 * r.mc_se)) << "T " << r.c.thickness << " gamma " << r.c.gamma_deg;
-    EXPECT_LT(r.model, 3.0 * (r.mc + 2.0 * r.mc_se)) << "T " << r.c.thickness << " gamma " << r.c.gamma_deg;
+  // The model (SS + the diffusion term with the fitted handover) recovers most of it. The bounds are the
+  // figures measured on these cases with three seeds (docs/measurements/fog_multiple_scattering.md, "Test":
+  // median |ln(model / mc)| thick 0.41 / 0.41 / 0.30, medium 0.61 / 0.50 / 0.60, thin 0.25 / 0.40 / 0.29 with
+  // seeds 7001 / 9001 / 31337), each seed's largest plus 0.05. Rate 0 fails the thick band; the former handover
+  // (fluence and flux both 1 - exp(-0.5 T)) fails the T = 2, 150 deg case (0.014).
+  const double max_median_log[3] = {0.40 + 0.05, 0.61 + 0.05, 0.41 + 0.05};
+  for (int b = 0; b < 3; ++b) {
+    std::printf("[ measured ] %s  median |ln(model / mc)| %.3f <= %.2f\n", bands[b].name, median(log_model[b]),
+                max_median_log[b]);
+    EXPECT_LT(median(log_model[b]), max_median_log[b]) << bands[b].name;
   }
+  EXPECT_LT(median(log_model[1]), 0.5 * median(log_ss[1]));
+  EXPECT_LT(median(log_model[0]), median(log_ss[0]));
+  // Every case within the envelope measured with seed 7001, model / mc from 0.204 (T = 4, 10 deg: the forward
+  // lobe of the multiple scattering, which P1 cannot hold) to 2.43 (T = 4, 90 deg: the P1 cosine lobe spreads
+  // that light sideways), widened to [0.18, 2.6] and by 2 standard errors of the Monte Carlo.
+  double lowest = 1e30, highest = 0.0;
+  for (const Row& r : rows) {
+    lowest = std::min(lowest, r.model / r.mc);
+    highest = std::max(highest, r.model / r.mc);
+    EXPECT_GT(r.model, 0.18 * (r.mc - 2.0 * r.mc_se)) << "T " << r.c.thickness << " gamma " << r.c.gamma_deg;
+    EXPECT_LT(r.model, 2.6 * (r.mc + 2.0 * r.mc_se)) << "T " << r.c.thickness << " gamma " << r.c.gamma_deg;
+  }
+  std::printf("[ measured ] model / mc over the cases: %.3f .. %.3f (envelope [0.18, 2.6] +- 2 se)\n", lowest,
+              highest);
 }

@@ -5,7 +5,7 @@
 // the ephemeris accuracy tests. See docs/EPHEMERIS_REFERENCE.md.
 //
 // Not part of the default build (libswe is not a project dependency). Build:
-//   g++ -std=c++17 -O2 -Wall -Wextra tools/ephemeris_reference/make_ephemeris_reference.cpp -lswe -lm -o make_ephemeris_reference
+//   g++ -std=c++17 -O2 -Wall -Wextra tools/ephemeris_reference/make_ephemeris_reference.cpp -Itools/support/include -lswe -lm -o make_ephemeris_reference
 // or configure with -DATMO_BUILD_EPHEMERIS_REFERENCE=ON (needs libswe-dev).
 // Run:
 //   ./make_ephemeris_reference --out tests/data/ephemeris_reference.csv
@@ -20,7 +20,8 @@
 //
 // Exit status: 0 on success; 1 if any Swiss Ephemeris call fails, reports a
 // message, or does not use the .se1 files (e.g. a silent fallback to the
-// Moshier analytic ephemeris), or if a self-check fails.
+// Moshier analytic ephemeris), or if a self-check fails; 2 on a bad argument
+// (CLI11's message names the option).
 //
 // Swiss Ephemeris is (c) Astrodienst AG, dual-licensed GPL-2.0-or-later or the
 // Swiss Ephemeris Professional License. This generator links it only as a
@@ -37,6 +38,8 @@
 #include <cstring>
 #include <string>
 #include <vector>
+
+#include "atmo_support/cli.h"
 
 namespace {
 
@@ -327,12 +330,6 @@ void check_geometry(CheckLog& log, const std::vector<double>& jds) {
 
 // ------------------------------------------------------------------ main
 
-void usage() {
-  std::fprintf(stderr,
-               "usage: make_ephemeris_reference [--ephe-path DIR] [--out FILE] [--strata N] [--seed S] "
-               "[--self-check-only]\n");
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -341,29 +338,13 @@ int main(int argc, char** argv) {
   int strata = 36;
   uint64_t seed = 20241215;
   bool self_check_only = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto next = [&](void) -> const char* {
-      if (i + 1 >= argc) {
-        usage();
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (a == "--ephe-path") ephe_path = next();
-    else if (a == "--out") out_path = next();
-    else if (a == "--strata") strata = std::atoi(next());
-    else if (a == "--seed") seed = std::strtoull(next(), nullptr, 10);
-    else if (a == "--self-check-only") self_check_only = true;
-    else {
-      usage();
-      return 2;
-    }
-  }
-  if (strata < 1) {
-    usage();
-    return 2;
-  }
+  CLI::App app{"make_ephemeris_reference: the Swiss Ephemeris reference table (docs/EPHEMERIS_REFERENCE.md)"};
+  app.add_option("--ephe-path", ephe_path, "Directory with sepl_18.se1 and semo_18.se1")->check(CLI::ExistingDirectory);
+  app.add_option("--out", out_path, "Output CSV (default: standard output)");
+  app.add_option("--strata", strata, "Number of stratified pseudo-random instants")->check(CLI::Range(1, 1000000));
+  app.add_option("--seed", seed, "Seed of the pseudo-random offsets");
+  app.add_flag("--self-check-only", self_check_only, "Run the self-checks only, write no table");
+  if (const auto exit_code = atmo::support::parse_command_line(app, argc, argv)) return *exit_code;
 
   swe_set_ephe_path(ephe_path.c_str());
   char version[AS_MAXCH];

@@ -32,12 +32,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "atmo_support/cli.h"
 #include "core/fog/fog_model.h"
 #include "core/fog/fog_twin.h"
 #include "fog_reference.h"
@@ -60,25 +60,13 @@ struct Point {
   double diffusion_full = 0;  // the fog pass's diffusion radiance with the handover = 1 (rate = inf)
 };
 
-std::vector<double> parse_list(const char* s) {
-  std::vector<double> v;
-  std::stringstream in(s);
-  std::string item;
-  while (std::getline(in, item, ',')) v.push_back(std::atof(item.c_str()));
-  return v;
-}
-
 // The fog pass's diffusion radiance at the eye for a view at gamma to the light, with the handover rate
-// `rate` (the diffusion vector's z), from the twin (the GLSL text), as make_fog_frame and fog_medium.frag use it.
+// `rate` (the diffusion vector's z), from the twin (the GLSL text fog_medium.frag runs).
 double diffusion_radiance(const fog::FogOptics& o, double distance, double gamma, float rate) {
   const glm::vec4 diffusion(static_cast<float>(o.transport_per_m()), static_cast<float>(o.diffusion_decay_per_m(INFINITY)),
                             rate, 1.0e30f);
-  const glm::vec2 p1 = fog::twin::atmo_fog_diffusion_light(diffusion, static_cast<float>(distance),
-                                                           static_cast<float>(o.extinction_per_m * distance), false);
-  // make_fog_frame: fluence += x I, flux += y I (unit vector eye -> light); fog_medium.frag: (F + 3 flux . dir) / 4 pi.
-  const double radiance = std::max((p1.x + 3.0 * p1.y * std::cos(gamma)) / (4.0 * kPi), 0.0);
-  const double transmittance = std::exp(-o.extinction_per_m * 1.0e6);  // L = ATMO_FOG_FAR, clamped to 1e6 m
-  return (1.0 - transmittance) * radiance;
+  return fog::twin::atmo_fog_pass_one_light(diffusion, static_cast<float>(o.extinction_per_m),
+                                            static_cast<float>(distance), static_cast<float>(std::cos(gamma)));
 }
 
 // The plugin's model at handover rate `rate`: the airlight + the diffusion radiance, both from the twin.
@@ -228,25 +216,27 @@ int main(int argc, char** argv) {
   std::vector<double> angles = {2, 10, 30, 60, 90, 150};
   std::string csv_path, raw_path;
   bool surface = false;
-  for (int i = 1; i < argc; ++i) {
-    auto next = [&]() -> const char* {
-      if (i + 1 >= argc) { std::fprintf(stderr, "missing value after %s\n", argv[i]); std::exit(2); }
-      return argv[++i];
-    };
-    if (!std::strcmp(argv[i], "--albedo")) albedo = std::atof(next());
-    else if (!std::strcmp(argv[i], "--g")) g = std::atof(next());
-    else if (!std::strcmp(argv[i], "--target-rel")) target_rel = std::atof(next());
-    else if (!std::strcmp(argv[i], "--max-seconds")) max_seconds = std::atof(next());
-    else if (!std::strcmp(argv[i], "--threads")) threads = std::atoi(next());
-    else if (!std::strcmp(argv[i], "--thickness")) thicknesses = parse_list(next());
-    else if (!std::strcmp(argv[i], "--angles")) angles = parse_list(next());
-    else if (!std::strcmp(argv[i], "--csv")) csv_path = next();
-    else if (!std::strcmp(argv[i], "--raw")) raw_path = next();
-    else if (!std::strcmp(argv[i], "--fit-min-t")) fit_min_t = std::atof(next());
-    else if (!std::strcmp(argv[i], "--seed")) seed = std::strtoull(next(), nullptr, 10);
-    else if (!std::strcmp(argv[i], "--surface")) surface = true;
-    else { std::fprintf(stderr, "unknown argument %s\n", argv[i]); return 2; }
-  }
+  CLI::App app{"fog_handover_fit: the plugin's fog multiple scattering against the Monte Carlo, and the fit of "
+               "its handover (docs/measurements/fog_multiple_scattering.md)"};
+  app.add_option("--albedo", albedo, "Single-scattering albedo")->check(CLI::Range(0.0, 1.0));
+  app.add_option("--g", g, "Henyey-Greenstein asymmetry")->check(CLI::Range(-0.99, 0.99));
+  app.add_option("--target-rel", target_rel, "Monte Carlo: stop at this relative standard error")
+      ->check(CLI::Range(1.0e-4, 1.0));
+  app.add_option("--max-seconds", max_seconds, "Monte Carlo: time per case, s")->check(CLI::Range(0.1, 86400.0));
+  app.add_option("--threads", threads, "Monte Carlo threads")->check(CLI::Range(1, 256));
+  app.add_option("--thickness", thicknesses, "Optical thicknesses T = beta D, comma-separated")
+      ->delimiter(',')
+      ->check(CLI::Range(1.0e-3, 100.0));
+  app.add_option("--angles", angles, "View angles to the light, degrees, comma-separated")
+      ->delimiter(',')
+      ->check(CLI::Range(0.0, 180.0));
+  app.add_option("--csv", csv_path, "Write the points as CSV");
+  app.add_option("--raw", raw_path, "Read the Monte Carlo columns from a CSV this program wrote")
+      ->check(CLI::ExistingFile);
+  app.add_option("--fit-min-t", fit_min_t, "Fit only T >= this")->check(CLI::Range(0.0, 100.0));
+  app.add_option("--seed", seed, "Monte Carlo seed");
+  app.add_flag("--surface", surface, "The surface irradiance check instead");
+  if (const auto exit_code = atmo::support::parse_command_line(app, argc, argv)) return *exit_code;
 
   fog::FogOptics optics;
   optics.extinction_per_m = kBeta;

@@ -236,6 +236,37 @@ ATMO_FOG_FN vec2 atmo_fog_diffusion_light(vec4 diffusion, float distance, float 
               (1.0f + diffusion.y * r) * e / (r * r) * (handover_flux * handover_flux));
 }
 
+// The fog pass (shaders/fog_medium.frag), per view ray. Length, metres, of
+// the part of [0, d] along a ray from the eye that lies below the fog top:
+// dir_z the ray direction's up component, top the top's height above the eye
+// (ATMO_FOG_FAR: no top). The eye in the fog: up to where the ray leaves it;
+// above it: from where the ray enters.
+ATMO_FOG_FN float atmo_fog_ray_length(float d, float dir_z, float top) {
+  if (top >= ATMO_FOG_FAR) return d;
+  if (top > 0.0f) return dir_z > 0.0f ? min(d, top / dir_z) : d;
+  return dir_z < 0.0f ? max(d - top / dir_z, 0.0f) : 0.0f;
+}
+
+// Transmittance of `length` metres of fog of extinction beta (1/m); lengths
+// beyond 1e6 m (an open-sky ray, ATMO_FOG_FAR) count as 1e6 m.
+ATMO_FOG_FN float atmo_fog_transmittance(float beta, float length) { return exp(-beta * min(length, 1.0e6f)); }
+
+// Radiance (cd/m^2 per channel) of the lights' diffusion field seen along the
+// unit direction dir: (fluence + 3 flux . dir) / 4 pi, floored at 0 (the P1
+// radiance). fluence: per channel, summed over the lights (intensity times
+// atmo_fog_diffusion_light's x); flux: column c is channel c's net flux
+// towards the lights (intensity times y times the unit vector eye -> light).
+ATMO_FOG_FN vec3 atmo_fog_diffusion_radiance(vec3 fluence, ATMO_FOG_IN(mat3) flux, vec3 dir) {
+  return max((fluence + 3.0f * (transpose(flux) * dir)) / (4.0f * ATMO_FOG_PI), vec3(0.0f));
+}
+
+// The fog's own light along a view ray, cd/m^2: (1 - transmittance) times the
+// isotropic ambient (cd/m^2) plus the diffusion radiance.
+ATMO_FOG_FN vec3 atmo_fog_medium_light(float transmittance, vec3 ambient, vec3 fluence, ATMO_FOG_IN(mat3) flux,
+                                       vec3 dir) {
+  return (1.0f - transmittance) * (ambient + atmo_fog_diffusion_radiance(fluence, flux, dir));
+}
+
 // Radiance per unit intensity that a surface at distance d_sp from a light
 // sends out, for BRDF kd + ks cos^n: x = the kd part, y = the ks part.
 // thickness = the fog's optical thickness light -> surface, cos_s = cos of

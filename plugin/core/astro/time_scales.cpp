@@ -10,24 +10,12 @@ namespace atmo::core::astro {
 
 namespace {
 
-constexpr double kJdUnixEpoch = 2440587.5;       // 1970-01-01T00:00:00
 constexpr double kJdUtcStart = 2436934.5;        // 1960-01-01T00:00:00: UTC begins
 constexpr double kMaxAbsDeltaTS = 1.0e5;         // a sanity bound on a user Delta T
 
 bool fail(std::string* error, const std::string& why) {
   if (error) *error = why;
   return false;
-}
-
-bool digits(const std::string& s, size_t pos, size_t n, int* out) {
-  if (pos + n > s.size()) return false;
-  int v = 0;
-  for (size_t i = pos; i < pos + n; ++i) {
-    if (s[i] < '0' || s[i] > '9') return false;
-    v = v * 10 + (s[i] - '0');
-  }
-  *out = v;
-  return true;
 }
 
 // Difference a - b of two Julian dates in seconds, part by part.
@@ -154,113 +142,6 @@ double delta_t_espenak_meeus_s(double y) {
   u = (y - 1820.0) / 100.0;
   if (y < 2150.0) return -20.0 + 32.0 * u * u - 0.5628 * (2150.0 - y);
   return -20.0 + 32.0 * u * u;
-}
-
-std::optional<CalendarTime> parse_iso8601(const std::string& s, std::string* error) {
-  static const char* const kForm = "not of the form \"YYYY-MM-DDThh:mm:ss[.fff]Z\" (or \"+hh:mm\" in place of Z)";
-  int year, month, day, hour, minute, second;
-  if (!(digits(s, 0, 4, &year) && s.size() > 4 && s[4] == '-' && digits(s, 5, 2, &month) && s.size() > 7 &&
-        s[7] == '-' && digits(s, 8, 2, &day) && s.size() > 10 && (s[10] == 'T' || s[10] == 't') &&
-        digits(s, 11, 2, &hour) && s.size() > 13 && s[13] == ':' && digits(s, 14, 2, &minute) && s.size() > 16 &&
-        s[16] == ':' && digits(s, 17, 2, &second))) {
-    fail(error, "'" + s + "' is " + kForm);
-    return std::nullopt;
-  }
-  size_t pos = 19;
-  double fraction = 0.0;
-  if (pos < s.size() && s[pos] == '.') {
-    ++pos;
-    const size_t first = pos;
-    double scale = 0.1;
-    while (pos < s.size() && s[pos] >= '0' && s[pos] <= '9') {
-      fraction += (s[pos] - '0') * scale;
-      scale *= 0.1;
-      ++pos;
-    }
-    if (pos == first) {
-      fail(error, "'" + s + "': no digits after the decimal point");
-      return std::nullopt;
-    }
-  }
-  int offset_min = 0;
-  if (pos < s.size() && (s[pos] == 'Z' || s[pos] == 'z')) {
-    ++pos;
-  } else if (pos < s.size() && (s[pos] == '+' || s[pos] == '-')) {
-    int oh, om;
-    if (!(digits(s, pos + 1, 2, &oh) && pos + 3 < s.size() && s[pos + 3] == ':' && digits(s, pos + 4, 2, &om))) {
-      fail(error, "'" + s + "' is " + kForm);
-      return std::nullopt;
-    }
-    if (oh > 23 || om > 59) {
-      fail(error, "'" + s + "': offset " + s.substr(pos, 6) + " out of range (hours 00-23, minutes 00-59)");
-      return std::nullopt;
-    }
-    offset_min = (s[pos] == '-' ? -1 : 1) * (oh * 60 + om);
-    pos += 6;
-  } else {
-    fail(error, "'" + s + "': no time zone after the seconds: add Z for UTC or an offset \"+hh:mm\"");
-    return std::nullopt;
-  }
-  if (pos != s.size()) {
-    fail(error, "'" + s + "': characters after the time zone");
-    return std::nullopt;
-  }
-  if (month < 1 || month > 12) {
-    fail(error, "'" + s + "': month " + std::to_string(month) + " is not in 01-12");
-    return std::nullopt;
-  }
-  double mjd0 = 0.0, mjd = 0.0;
-  if (eraCal2jd(year, month, day, &mjd0, &mjd) != 0) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "day %02d does not exist in %04d-%02d", day, year, month);
-    fail(error, "'" + s + "': " + buf);
-    return std::nullopt;
-  }
-  if (hour > 23 || minute > 59) {
-    fail(error, "'" + s + "': time of day out of range (hours 00-23, minutes 00-59)");
-    return std::nullopt;
-  }
-  if (second > 60) {
-    fail(error, "'" + s + "': seconds out of range (00-59, or 60 in a leap second)");
-    return std::nullopt;
-  }
-
-  // Remove the offset: shift the minutes, carry whole days through the
-  // calendar; the seconds (possibly a leap second's 60.x) stay as written.
-  int total_min = hour * 60 + minute - offset_min;
-  int day_shift = 0;
-  while (total_min < 0) {
-    total_min += 1440;
-    --day_shift;
-  }
-  while (total_min >= 1440) {
-    total_min -= 1440;
-    ++day_shift;
-  }
-  CalendarTime t;
-  double fd = 0.0;
-  if (eraJd2cal(mjd0, mjd + day_shift, &t.year, &t.month, &t.day, &fd) != 0) {
-    fail(error, "'" + s + "': date out of range");
-    return std::nullopt;
-  }
-  t.hour = total_min / 60;
-  t.minute = total_min % 60;
-  t.second = second + fraction;
-  return t;
-}
-
-CalendarTime calendar_from_posix(double posix_s) {
-  CalendarTime t;
-  const double days = std::floor(posix_s / ERFA_DAYSEC);
-  double sod = posix_s - days * ERFA_DAYSEC;
-  if (sod < 0.0) sod = 0.0;
-  if (sod >= ERFA_DAYSEC) sod = std::nextafter(ERFA_DAYSEC, 0.0);
-  double fd = 0.0;
-  eraJd2cal(kJdUnixEpoch, days, &t.year, &t.month, &t.day, &fd);
-  t.hour = static_cast<int>(sod / 3600.0);
-  t.minute = static_cast<int>((sod - t.hour * 3600.0) / 60.0);
-  t.second = sod - t.hour * 3600.0 - t.minute * 60.0;
-  return t;
 }
 
 std::string format_julian_date(JulianDate jd, bool utc) {

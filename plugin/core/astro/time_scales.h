@@ -16,6 +16,8 @@
 #include <optional>
 #include <string>
 
+#include "core/astro/iso8601.h"
+
 namespace atmo::core::astro {
 
 // A Julian date in two parts for precision; value() is the sum.
@@ -25,25 +27,8 @@ struct JulianDate {
   double value() const { return jd1 + jd2; }
 };
 
-// A UTC instant on the proleptic Gregorian calendar. second may be in
-// [60, 61) inside a leap second (23:59:60).
-struct CalendarTime {
-  int year = 2000;
-  int month = 1;
-  int day = 1;
-  int hour = 0;
-  int minute = 0;
-  double second = 0.0;
-};
-
-// "YYYY-MM-DDThh:mm:ss[.f...]Z" or with an offset "+hh:mm" / "-hh:mm" in place
-// of Z; the offset is removed, the result is UTC. Years 0000-9999. A leap
-// second (ss = 60) is accepted here and checked against the leap-second table
-// by time_scales_from_utc. On failure returns nullopt and says why.
-std::optional<CalendarTime> parse_iso8601(const std::string& text, std::string* error);
-
-// POSIX seconds (days of exactly 86 400 s, so never a leap second) to UTC.
-CalendarTime calendar_from_posix(double posix_s);
+// CalendarTime, parse_iso8601 (the one ISO 8601 parser) and
+// calendar_from_posix: core/astro/iso8601.h.
 
 // "YYYY-MM-DDThh:mm:ss.sss" of a Julian date on a time scale (milliseconds,
 // rounded by eraD2dtf). utc: the date is ERFA's UTC quasi Julian date, whose

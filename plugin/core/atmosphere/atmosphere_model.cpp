@@ -8,9 +8,6 @@
 
 namespace atmo::core {
 
-namespace {
-}  // namespace
-
 twin::AtmosphereParameters make_atmosphere_parameters(const AtmosphereSettings& s, double bottom_radius_m,
                                                       double sun_distance_au) {
   // Coefficients at the three wavelengths from the spectral definition of the
@@ -20,14 +17,14 @@ twin::AtmosphereParameters make_atmosphere_parameters(const AtmosphereSettings& 
   atm.bottom_radius_m = static_cast<float>(bottom_radius_m);
   atm.top_radius_m = static_cast<float>(bottom_radius_m + kAtmosphereThicknessM);
   atm.rayleigh_scattering = glm::vec3(c.rayleigh_scattering);
-  atm.rayleigh_scale_height_m = 8000.0f;
+  atm.rayleigh_scale_height_m = static_cast<float>(spectral::kRayleighScaleHeightM);
   atm.mie_extinction = glm::vec3(c.mie_extinction);
   atm.mie_scattering = glm::vec3(c.mie_scattering);
   atm.mie_scale_height_m = static_cast<float>(s.aerosol_scale_height_m);
-  atm.mie_g = 0.8f;
+  atm.mie_g = static_cast<float>(spectral::kMieAsymmetryG);
   atm.ozone_absorption = glm::vec3(c.ozone_absorption);
-  atm.ozone_center_m = 25000.0f;
-  atm.ozone_half_width_m = 15000.0f;
+  atm.ozone_center_m = static_cast<float>(spectral::kOzonePeakAltitudeM);
+  atm.ozone_half_width_m = static_cast<float>(spectral::kOzoneHalfWidthM);
   atm.sun_illuminance_lux = glm::vec3(sun_rgb_illuminance_at_1au_lux() / (sun_distance_au * sun_distance_au));
   atm.sun_angular_radius = static_cast<float>(kSunAngularRadiusRad);
   atm.ground_albedo = glm::vec3(static_cast<float>(s.ground_albedo));

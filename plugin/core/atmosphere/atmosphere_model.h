@@ -17,16 +17,20 @@
 #include <functional>
 
 #include "core/atmosphere/shader_twin.h"
+#include "core/spectral/spectral_atmosphere.h"
 
 namespace atmo::core {
 
+// The host's settings; the constants of the air (scale heights, phase
+// asymmetry, ozone profile, the atmosphere's thickness) are the spectral
+// model's (core/spectral/spectral_atmosphere.h), the one source.
 struct AtmosphereSettings {
   double visibility_m = 40000.0;
-  double aerosol_scale_height_m = 1200.0;
+  double aerosol_scale_height_m = spectral::kDefaultAerosolScaleHeightM;
   double ground_albedo = 0.1;
 };
 
-constexpr double kAtmosphereThicknessM = 100000.0;
+using spectral::kAtmosphereThicknessM;
 // Linear sRGB illuminance of the sun outside the atmosphere at 1 AU, lux per channel.
 glm::dvec3 sun_rgb_illuminance_at_1au_lux();
 constexpr double kSunAngularRadiusRad = 0.2666 * 3.14159265358979323846 / 180.0;

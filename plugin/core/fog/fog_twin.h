@@ -34,4 +34,20 @@ inline float atmo_fog_table_fetch(const FogTable& t, const vec2& uv) {
 #undef ATMO_FOG_FN
 #undef ATMO_TWIN
 
+// What the fog pass (fog_medium.frag) draws for one omnidirectional light of
+// 1 cd at `distance` metres from the eye, in fog without a top of extinction
+// `beta` (1/m) and diffusion vector `diffusion` (make_fog_frame's), along an
+// open-sky ray at cos_gamma to the direction of the light, without ambient:
+// the light's fluence and flux at the eye as make_fog_frame sums them
+// (atmo_fog_diffusion_light), through atmo_fog_medium_light. For the
+// measurements against the Monte Carlo (tools/fog_reference, its tests).
+inline float atmo_fog_pass_one_light(const vec4& diffusion, float beta, float distance, float cos_gamma) {
+  const vec2 p1 = atmo_fog_diffusion_light(diffusion, distance, beta * distance, false);
+  const vec3 towards(1.0f, 0.0f, 0.0f);
+  const vec3 dir(cos_gamma, sqrt(max(1.0f - cos_gamma * cos_gamma, 0.0f)), 0.0f);
+  const mat3 flux(p1.y * towards, p1.y * towards, p1.y * towards);
+  const float transmittance = atmo_fog_transmittance(beta, atmo_fog_ray_length(ATMO_FOG_FAR, dir.z, ATMO_FOG_FAR));
+  return atmo_fog_medium_light(transmittance, vec3(0.0f), vec3(p1.x), flux, dir).x;
+}
+
 }  // namespace atmo::fog::twin

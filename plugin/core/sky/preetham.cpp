@@ -4,17 +4,12 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/spectral/spectral_atmosphere.h"
+
 namespace atmo::core {
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
-
-// Same air as core/atmosphere/atmosphere_model.cpp (Rayleigh at 550 nm, 8 km scale height;
-// Koschmieder at 5 % contrast; aerosol extinction floor).
-constexpr double kRayleigh550 = 13.558e-6;
-constexpr double kRayleighScaleHeightM = 8000.0;
-constexpr double kKoschmieder5Percent = 2.995732273553991;  // ln(20)
-constexpr double kMinAerosolExtinction = 2e-7;
 
 // Preetham et al. 1999, Appendix A: each coefficient is linear in T,
 // value = slope * T + offset, for Y, x, y.
@@ -88,19 +83,14 @@ twin::PreethamCoefficients preetham_coefficients(double turbidity, double sun_ze
   return c;
 }
 
+// The air is the spectral model's (core/spectral/spectral_atmosphere.h), the
+// one the LUT tier and the reference are built from.
 double preetham_turbidity_from_visibility(double visibility_m, double aerosol_scale_height_m) {
-  const double tau_molecules = kRayleigh550 * kRayleighScaleHeightM;
-  const double beta_haze =
-      std::max(kKoschmieder5Percent / std::max(visibility_m, 1.0) - kRayleigh550, kMinAerosolExtinction);
-  const double tau_haze = beta_haze * std::max(aerosol_scale_height_m, 0.0);
-  return 1.0 + tau_haze / tau_molecules;
+  return spectral::turbidity_from_visibility(std::max(visibility_m, 1.0), std::max(aerosol_scale_height_m, 0.0));
 }
 
 double preetham_visibility_from_turbidity(double turbidity, double aerosol_scale_height_m) {
-  const double tau_molecules = kRayleigh550 * kRayleighScaleHeightM;
-  const double beta_haze =
-      std::max((turbidity - 1.0) * tau_molecules / std::max(aerosol_scale_height_m, 1.0), kMinAerosolExtinction);
-  return std::min(kKoschmieder5Percent / (beta_haze + kRayleigh550), 1e9);
+  return spectral::visibility_from_turbidity(turbidity, std::max(aerosol_scale_height_m, 1.0));
 }
 
 PreethamValidity preetham_validity(double turbidity, double sun_elevation_rad, double eye_altitude_m) {

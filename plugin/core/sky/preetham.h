@@ -14,6 +14,7 @@
 #include <string>
 
 #include "core/atmosphere/shader_twin.h"
+#include "core/spectral/spectral_atmosphere.h"
 
 // The shared GLSL source as C++ (no-op if shader_twin.h already included it:
 // preetham.glsl carries its own include guard, valid in GLSL and C++).
@@ -59,13 +60,16 @@ void preetham_zenith_chromaticity(double turbidity, double sun_zenith_rad, doubl
 
 // Turbidity from the meteorological optical range, by the definition the paper
 // uses, T = (tau_molecules + tau_haze) / tau_molecules (vertical optical
-// thickness at 550 nm), with the project's air (core/atmosphere/atmosphere_model.h):
-// tau_molecules = 13.558e-6 /m x 8000 m = 0.1085, haze extinction from
-// Koschmieder at 5 % contrast, beta_haze = 2.996 / MOR - 13.558e-6 /m (floored
-// at 2e-7 /m), tau_haze = beta_haze x aerosol scale height.
-double preetham_turbidity_from_visibility(double visibility_m, double aerosol_scale_height_m = 1200.0);
-// The inverse (MOR in metres for a turbidity >= 1; +inf-like 1e9 m for T ~ 1).
-double preetham_visibility_from_turbidity(double turbidity, double aerosol_scale_height_m = 1200.0);
+// thickness at 550 nm), with the air of the spectral model, the LUT tier's
+// (spectral::turbidity_from_visibility: first-principles Rayleigh, 1.1496e-5 /m
+// at 550 nm x 8000 m = 0.0920; haze from Koschmieder at 5 % contrast,
+// beta_haze = ln(20) / MOR - beta_Rayleigh, floored at 2e-7 /m; tau_haze =
+// beta_haze x aerosol scale height). MOR is floored at 1 m.
+double preetham_turbidity_from_visibility(double visibility_m,
+                                          double aerosol_scale_height_m = spectral::kDefaultAerosolScaleHeightM);
+// The inverse, MOR in metres (T <= 1 gives the MOR of the aerosol floor, 256 km).
+double preetham_visibility_from_turbidity(double turbidity,
+                                          double aerosol_scale_height_m = spectral::kDefaultAerosolScaleHeightM);
 
 struct PreethamValidity {
   bool valid = false;       // inside the hard bounds: the analytic tier may be drawn

@@ -34,7 +34,7 @@ constexpr double kKoschmiederContrast = 0.05;  // MOR: ln(1/0.05) = ln 20 = 2.99
 constexpr double kAngstromExponent = 1.3;
 constexpr double kAerosolSingleScatteringAlbedo = 0.9;
 constexpr double kMieAsymmetryG = 0.8;          // Cornette-Shanks phase function
-constexpr double kMinAerosolExtinction = 2e-7;  // 1/m at 550 nm, the floor of atmosphere_model.cpp
+constexpr double kMinAerosolExtinction = 2e-7;  // 1/m at 550 nm, the floor of aerosol_extinction_550
 constexpr double kDefaultAerosolScaleHeightM = 1200.0;
 
 // Sea-level aerosol extinction at 550 nm from the meteorological optical

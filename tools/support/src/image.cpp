@@ -12,6 +12,16 @@
 #include <exception>
 #include <fstream>
 
+#include <glm/glm.hpp>
+
+// The plugin's tone map (host_sdk/include/atmo/atmo_tone_map.glsl) as C++ over GLM.
+namespace atmo::support::tone_twin {
+using namespace glm;
+#define ATMO_TONE_FN inline
+#include "atmo/atmo_tone_map.glsl"
+#undef ATMO_TONE_FN
+}  // namespace atmo::support::tone_twin
+
 namespace atmo::support {
 
 Image make_image(int width, int height, float r, float g, float b, float a) {
@@ -161,17 +171,12 @@ bool read_png(const std::string& path, Image* out, std::string* error) {
 
 float srgb_encode(float linear) {
   if (!(linear > 0.0f)) return 0.0f;  // also NaN
-  if (linear <= 0.0031308f) return 12.92f * linear;
-  // In double so that 1 encodes to exactly 1.
-  return static_cast<float>(1.055 * std::pow(static_cast<double>(linear), 1.0 / 2.4) - 0.055);
+  return tone_twin::atmo_srgb_encode(glm::vec3(linear)).x;
 }
 
 float aces_filmic(float x) {
   if (std::isnan(x)) return x;
-  if (!(x > 0.0f)) return 0.0f;
-  if (x > 1.0e4f) return 1.0f;  // the curve tends to 2.51/2.43 > 1; avoids inf/inf
-  const float y = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);
-  return std::clamp(y, 0.0f, 1.0f);
+  return tone_twin::atmo_aces_filmic(glm::vec3(x)).x;
 }
 
 Image tone_map_to_display(const Image& linear_hdr, float exposure_scale) {

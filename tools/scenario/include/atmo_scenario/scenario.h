@@ -216,16 +216,12 @@ const std::vector<ObjectShape>& object_shapes();
 const std::vector<std::string>& top_level_fields();
 
 // "YYYY-MM-DDThh:mm:ss[.f...]Z" or with a "+hh:mm"/"-hh:mm" offset, to POSIX
-// seconds (days of 86 400 s, proleptic Gregorian). Years 0000-9999; seconds
-// 00-59 (a leap second has no POSIX time). On failure returns nullopt and,
+// seconds (days of 86 400 s, proleptic Gregorian): the plugin's parser
+// (core/astro/iso8601.h, also its calendar). Years 0000-9999; seconds 00-59
+// (a leap second has no POSIX time). On failure returns nullopt and,
 // if error is not null, says why.
 std::optional<double> parse_iso8601_utc(const std::string& text, std::string* error);
 
-// Days since 1970-01-01 of a proleptic Gregorian date, and back.
-std::int64_t days_from_civil(std::int64_t year, unsigned month, unsigned day);
-void civil_from_days(std::int64_t days, std::int64_t* year, unsigned* month, unsigned* day);
-bool is_leap_year(std::int64_t year);
-unsigned days_in_month(std::int64_t year, unsigned month);
 
 // POSIX seconds as "YYYY-MM-DDThh:mm:ss[.fff]Z" (milliseconds only when non-zero).
 std::string format_iso8601_utc(double posix_s);

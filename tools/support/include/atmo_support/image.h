@@ -32,10 +32,11 @@ bool write_png(const std::string& path, const Image& display_referred, std::stri
 // Back to [0,1] floats (8-bit values / 255), no decoding of the transfer curve.
 bool read_png(const std::string& path, Image* out, std::string* error);
 
+// The plugin's display encoding, one source (host_sdk/include/atmo/atmo_tone_map.glsl):
 // IEC 61966-2-1 sRGB transfer function; negative and NaN give 0.
 float srgb_encode(float linear);
 // The filmic curve of tone_map_to_display: ACES fitted by K. Narkowicz (2015),
-// x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14), clamped to [0,1]; x <= 0 gives 0.
+// x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14), clamped to [0,1]; x <= 0 gives 0, NaN stays NaN.
 float aces_filmic(float x);
 // rgb * exposure_scale, then aces_filmic per channel, then srgb_encode; alpha 1.
 // NaN stays NaN so a preview writer can flag it (write_png writes it as 0).
