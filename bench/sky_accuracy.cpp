@@ -264,7 +264,7 @@ int main(int argc, char** argv) {
                              {"10 km, sun 40 deg", 10000.0, 40.0, -8.0},
                              {"2 km, sun 5 deg", 2000.0, 5.0, -3.0}};
   const int volume_sizes[] = {16, 32, 64};
-  const double min_volume32_psnr_db[] = {34.4, 29.3, 40.5};  // --check: SKY.md's 32^3 figures less 1.5 dB
+  const double min_volume32_psnr_db[] = {33.9, 29.5, 40.6};  // --check: SKY.md's 32^3 figures less 1.5 dB
   int ap_index = 0;
   const glm::vec3 surface(2000.0f);  // a grey surface of 2000 cd/m^2 under the haze
   for (const ApView& v : ap_views) {
