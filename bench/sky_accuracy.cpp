@@ -250,7 +250,7 @@ int main(int argc, char** argv) {
                              {"10 km, sun 40 deg", 10000.0, 40.0, -8.0},
                              {"2 km, sun 5 deg", 2000.0, 5.0, -3.0}};
   const int volume_sizes[] = {16, 32, 64};
-  const double min_volume32_psnr_db[] = {34.4, 29.3, 40.5};  // --check: SKY.md's 32^3 figures less 1.5 dB
+  const double min_volume32_psnr_db[] = {33.9, 29.5, 40.6};  // --check: SKY.md's 32^3 figures less 1.5 dB
   int ap_index = 0;
   const glm::vec3 surface(2000.0f);  // a grey surface of 2000 cd/m^2 under the haze
   for (const ApView& v : ap_views) {
@@ -294,10 +294,14 @@ int main(int argc, char** argv) {
         for (int x = 0; x < w; ++x) {
           const size_t i = size_t(y) * w + x;
           if (distance[i] < 0.0f) continue;
-          glm::vec2 slice = atmo::twin::atmo_aerial_slice_coordinate(distance[i], range, n);
-          glm::vec3 uvw((x + 0.5f) / w, (y + 0.5f) / h, slice.x);
-          glm::vec3 inscattered = in.sample(uvw) * slice.y;
-          glm::vec3 transmittance = glm::mix(glm::vec3(1.0f), tr.sample(uvw), slice.y);
+          // As atmo_aerial_perspective_sample does on the GPU: the two slices around the distance.
+          const glm::vec4 pair = atmo::twin::atmo_aerial_slice_pair(distance[i], range, n);
+          const glm::vec3 near_uvw((x + 0.5f) / w, (y + 0.5f) / h, pair.x), far_uvw(near_uvw.x, near_uvw.y, pair.y);
+          const bool from_eye = pair.w > 0.5f;
+          glm::vec3 inscattered, transmittance;
+          atmo::twin::atmo_aerial_between(from_eye ? glm::vec3(0.0f) : in.sample(near_uvw),
+                                          from_eye ? glm::vec3(1.0f) : tr.sample(near_uvw), in.sample(far_uvw),
+                                          tr.sample(far_uvw), pair.z, inscattered, transmittance);
           image[i] = glm::dvec3(surface * transmittance + inscattered);
         }
       Errors e = compare(image, reference);

@@ -14,6 +14,7 @@ PACKAGES=(
   libvtk9-dev libopenvdb-dev libboost-iostreams-dev
   openimageio-tools binutils
   colord-data
+  kstars-data
 )
 
 missing=()

@@ -11,7 +11,8 @@ jobs=$(nproc)
 echo "[atmo] release build and tests"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo
 cmake --build build -j"$jobs"
-ctest --test-dir build -j"$jobs" --output-on-failure
+ctest --test-dir build -j"$jobs" --output-on-failure --output-junit "$PWD/build/ctest-junit.xml"
+python3 tools/check_no_skips.py build/ctest-junit.xml  # no test skipped, disabled or not run
 
 echo "[atmo] AddressSanitizer + UBSan build and tests"
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DATMO_SANITIZE=ON -DATMO_BUILD_BENCH=OFF
@@ -26,4 +27,5 @@ cmake --build build-asan -j"$jobs"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:intercept_tls_get_addr=0"
 export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
-ctest --test-dir build-asan -j"$jobs" --output-on-failure
+ctest --test-dir build-asan -j"$jobs" --output-on-failure --output-junit "$PWD/build-asan/ctest-junit.xml"
+python3 tools/check_no_skips.py build-asan/ctest-junit.xml

@@ -22,8 +22,8 @@ gl::PassInputs make_pass_inputs(const core::Scene& scene, const AtmoView_T& view
 gl::SkyMethod resolve_sky_method(uint32_t requested, double eye_altitude_m, double atmosphere_thickness_m);
 
 // Distance the aerial-perspective volume must reach: where a ray grazing the
-// Earth leaves the atmosphere, or the far plane's corner if the host's
-// projection has a nearer finite far plane; at least 1 km.
+// Earth leaves the atmosphere (at least 1 km), whatever the projection and its
+// far plane, so that every depth convention reads the same volume.
 float aerial_volume_range_m(const core::Scene& scene, const AtmoViewState& state, const glm::dmat4& view_from_clip);
 
 }  // namespace atmo::abi

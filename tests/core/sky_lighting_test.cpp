@@ -48,10 +48,16 @@ double luminance(const glm::dvec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0
 }  // namespace
 
 TEST(SkyLighting, Sh9IrradianceMatchesBruteForce) {
+  // max_sh9_error: docs/SKY.md's measured figure per case plus ~0.2 points.
   struct Case {
     const char* name;
-    double sun_deg, altitude_m;
-  } cases[] = {{"noon", 60.0, 300.0}, {"sun at 5 deg", 5.0, 300.0}, {"sun at -4 deg", -4.0, 300.0}, {"10 km", 30.0, 10000.0}};
+    double sun_deg, altitude_m, max_sh9_error;
+  } cases[] = {{"noon", 60.0, 300.0, 0.018},
+               {"sun at 5 deg", 5.0, 300.0, 0.043},
+               {"sun at -4 deg", -4.0, 300.0, 0.051},
+               {"10 km", 30.0, 10000.0, 0.060}};
+  // Horizontal illuminance vs the brute force: docs/SKY.md's 0.3-1.05 % plus a margin.
+  constexpr double kMaxHorizontalError = 0.012;
   const glm::dvec3 normals[] = {{0, 0, 1}, {0, 1, 0}, {1, 0, 0}, {0, -1, 0}, {0, 0, -1}, glm::normalize(glm::dvec3(0, 1, 1))};
   for (const Case& c : cases) {
     core::Scene s = scene_for(c.sun_deg, c.altitude_m);
@@ -73,8 +79,8 @@ TEST(SkyLighting, Sh9IrradianceMatchesBruteForce) {
     std::printf("[ sky lighting ] %-14s E(up) %9.4g lux vs brute force %9.4g (%+.2f %%); SH9 worst error over 6 normals "
                 "%.2f %% of the largest irradiance\n",
                 c.name, horizontal, up, 100.0 * (horizontal - up) / up, 100.0 * worst);
-    EXPECT_LT(worst, 0.10) << c.name;
-    EXPECT_NEAR(horizontal, up, 0.03 * up) << c.name;
+    EXPECT_LT(worst, c.max_sh9_error) << c.name;
+    EXPECT_NEAR(horizontal, up, kMaxHorizontalError * up) << c.name;
   }
 }
 

@@ -25,7 +25,12 @@ double brute_force_transmittance(const twin::AtmosphereParameters& atm, double r
 }  // namespace
 
 TEST(Transmittance, TableMatchesBruteForceAboveTheHorizon) {
-  for (double visibility : {5000.0, 40000.0, 200000.0}) {
+  // max_relative: docs/SKY.md's measured worst error (1.57 % in 5 km haze, 0.18 % in clear air) plus ~0.1 of it.
+  struct Case {
+    double visibility, max_relative;
+  } cases[] = {{5000.0, 0.017}, {40000.0, 0.002}, {200000.0, 0.002}};
+  for (const Case& c : cases) {
+    const double visibility = c.visibility;
     core::AtmosphereSettings s;
     s.visibility_m = visibility;
     auto atm = core::make_atmosphere_parameters(s, 6370000.0, 1.0);
@@ -48,9 +53,10 @@ TEST(Transmittance, TableMatchesBruteForceAboveTheHorizon) {
     }
     std::printf("[ transmittance ] visibility %6.0f m: table %dx%d vs brute force: worst relative error %.2e (T >= 0.1), "
                 "worst absolute error %.2e\n", visibility, table.width, table.height, worst, worst_abs);
-    // Measured: 1.5 % in 5 km haze (steep aerosol gradient near the ground), 0.2 % in clear air.
-    EXPECT_LT(worst, 0.02);
-    EXPECT_LT(worst_abs, 0.005);
+    // Measured: 1.57 % in 5 km haze (steep aerosol gradient near the ground), 0.18 % in clear air;
+    // absolute 2.2e-3 and 7.7e-4.
+    EXPECT_LT(worst, c.max_relative) << "visibility " << visibility;
+    EXPECT_LT(worst_abs, 0.0025) << "visibility " << visibility;
   }
 }
 

@@ -18,8 +18,13 @@
 //   atmo_aerial_perspective_terms() and combine as shown there.
 //
 // The volume: screen-aligned froxels (u, v = the pixel's position in the
-// viewport), slice k of n at distance range * ((k + 1) / n)^2 from the eye;
-// below the first slice the haze fades linearly (in sqrt(distance)) to none.
+// viewport), slice k of n at distance range * ((k + 1) / n)^2 from the eye.
+// Between two slices (and between the eye and the first) the segment is taken
+// as homogeneous: its transmittance T_seg = T_far / T_near and in-scattered
+// light L_seg = (L_far - L_near) / T_near, and at a fraction f of its length
+// (in distance) T = T_near T_seg^f, L = L_near + T_near L_seg (1 - T_seg^f) /
+// (1 - T_seg) — exact for uniform air, so the result does not depend on where
+// the slices fall (the range, i.e. the far plane, or an infinite one).
 // Units: in-scattered light in cd/m^2 (linear Rec.709), transmittance 0..1.
 #ifndef ATMO_AERIAL_PERSPECTIVE_GLSL
 #define ATMO_AERIAL_PERSPECTIVE_GLSL
@@ -34,14 +39,46 @@ ATMO_AP_FN float atmo_aerial_slice_distance(int slice, int slices, float range_m
   return range_m * w * w;
 }
 
-// Third texture coordinate of a distance, and the weight of the volume there
-// (1 from the first slice on). Written in the subset the plugin's C++ twin
-// compiles (float literals with f, no swizzles).
-ATMO_AP_FN vec2 atmo_aerial_slice_coordinate(float distance_m, float range_m, int slices) {
-  float w = sqrt(clamp(distance_m / range_m, 0.0f, 1.0f)) * float(slices);  // continuous slice index + 1
-  float weight = clamp(w, 0.0f, 1.0f);
-  float z = (max(w - 1.0f, 0.0f) + 0.5f) / float(slices);
-  return vec2(z, weight);
+#ifndef ATMO_AP_OUT
+#define ATMO_AP_OUT(T) out T
+#endif
+
+// The two slices around a distance: (third texture coordinate of the nearer
+// slice, of the farther one, fraction f of the way between them in distance,
+// 1 when the nearer end is the eye itself (no texel: L = 0, T = 1), else 0).
+// Beyond the last slice f is 1 at the last slice. Written in the subset the
+// plugin's C++ twin compiles (float literals with f, no swizzles).
+ATMO_AP_FN vec4 atmo_aerial_slice_pair(float distance_m, float range_m, int slices) {
+  float n = float(slices);
+  float w = sqrt(clamp(distance_m / range_m, 0.0f, 1.0f)) * n;  // continuous slice index + 1
+  int far_slice = int(min(floor(w), n - 1.0f));
+  float near_m = far_slice > 0 ? atmo_aerial_slice_distance(far_slice - 1, slices, range_m) : 0.0f;
+  float far_m = atmo_aerial_slice_distance(far_slice, slices, range_m);
+  float f = clamp((distance_m - near_m) / (far_m - near_m), 0.0f, 1.0f);
+  float z_far = (float(far_slice) + 0.5f) / n;
+  return vec4(z_far - 1.0f / n, z_far, f, far_slice > 0 ? 0.0f : 1.0f);
+}
+
+// One colour channel at fraction f of a homogeneous segment from a point with
+// (in-scattered l0, transmittance t0) to one with (l1, t1): (l, t) there.
+ATMO_AP_FN vec2 atmo_aerial_segment(float l0, float t0, float l1, float t1, float f) {
+  float t_seg = clamp(t1 / max(t0, 1e-30f), 1e-30f, 1.0f);
+  float l_seg = max(l1 - l0, 0.0f) / max(t0, 1e-30f);
+  float t_f = exp2(f * log2(t_seg));
+  // (1 - T^f) / (1 - T) tends to f as T -> 1 (optically thin): no 0/0.
+  float grown = 1.0f - t_seg > 1e-4f ? (1.0f - t_f) / (1.0f - t_seg) : f;
+  return vec2(l0 + t0 * l_seg * grown, t0 * t_f);
+}
+
+// The three channels: in-scattered light and transmittance at fraction f
+// between the slice values (l0, t0) and (l1, t1).
+ATMO_AP_FN void atmo_aerial_between(vec3 l0, vec3 t0, vec3 l1, vec3 t1, float f, ATMO_AP_OUT(vec3) inscattered,
+                                    ATMO_AP_OUT(vec3) transmittance) {
+  for (int c = 0; c < 3; ++c) {
+    vec2 at = atmo_aerial_segment(l0[c], t0[c], l1[c], t1[c], f);
+    inscattered[c] = at.x;
+    transmittance[c] = at.y;
+  }
 }
 
 #ifndef ATMO_TWIN
@@ -50,10 +87,16 @@ ATMO_AP_FN vec2 atmo_aerial_slice_coordinate(float distance_m, float range_m, in
 void atmo_aerial_perspective_sample(sampler3D inscatter_volume, sampler3D transmittance_volume, vec2 screen_uv,
                                     float distance_m, float range_m, int slices, out vec3 inscattered,
                                     out vec3 transmittance) {
-  vec2 slice = atmo_aerial_slice_coordinate(distance_m, range_m, slices);
-  vec3 coord = vec3(screen_uv, slice.x);
-  inscattered = texture(inscatter_volume, coord).rgb * slice.y;
-  transmittance = mix(vec3(1.0f), texture(transmittance_volume, coord).rgb, slice.y);
+  vec4 pair = atmo_aerial_slice_pair(distance_m, range_m, slices);
+  vec3 l0 = vec3(0.0f);
+  vec3 t0 = vec3(1.0f);
+  if (pair.w < 0.5f) {
+    l0 = texture(inscatter_volume, vec3(screen_uv, pair.x)).rgb;
+    t0 = texture(transmittance_volume, vec3(screen_uv, pair.x)).rgb;
+  }
+  vec3 l1 = texture(inscatter_volume, vec3(screen_uv, pair.y)).rgb;
+  vec3 t1 = texture(transmittance_volume, vec3(screen_uv, pair.y)).rgb;
+  atmo_aerial_between(l0, t0, l1, t1, pair.z, inscattered, transmittance);
 }
 
 #ifndef ATMO_AERIAL_NO_UNIFORMS

@@ -42,7 +42,9 @@ inline vec3 sample_lut(const Lut2D& table, const vec2& uv) {
 // The aerial-perspective volume's slice mapping, from the host include.
 #define ATMO_TWIN
 #define ATMO_AP_FN inline
+#define ATMO_AP_OUT(T) T&
 #include "atmo/atmo_aerial_perspective.glsl"
+#undef ATMO_AP_OUT
 #undef ATMO_AP_FN
 #undef ATMO_TWIN
 #undef ATMO_FN
