@@ -3,12 +3,14 @@
 // says what it saw when it fails.
 #include <glad/gl.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
 #include <memory>
 #include <sstream>
+#include <vector>
 
 #include "atmo/atmo.hpp"
 #include "atmo/atmo_loader.h"
@@ -597,16 +599,72 @@ std::string state_leaks(const support::GlStateSnapshot& before, const support::G
   return out;
 }
 
+// 2024-06-21 22:00 UTC, midnight at Innsbruck: the Sun 19 degrees down, so the night pass draws too.
+AtmoFrameState night_frame() {
+  auto f = valid_frame();
+  f.utc_posix_s += 12 * 3600.0;
+  return f;
+}
+
+// Fog, a lamp in view and a cumulus layer: with these (and a night frame and a
+// depth texture) every pass has something to draw, so each one's first call
+// (lazy creation of its GL objects) is checked, not only the sky's.
+std::string give_every_pass_work(const AtmoPluginApi& api, AtmoContext context) {
+  auto fog = make<AtmoFogState>(ATMO_TYPE_FOG_STATE);
+  fog.visibility_m = 3000.0;
+  static AtmoLightPoint lamp{};  // copied by set_lights
+  lamp.position_m[1] = 400.0;   // 400 m north of the origin, on the ground (the eye is 600 m up)
+  lamp.intensity_cd = 1e5;
+  lamp.color[0] = lamp.color[1] = lamp.color[2] = 1.0;
+  auto lights = make<AtmoLightsState>(ATMO_TYPE_LIGHTS_STATE);
+  lights.world_frame = ATMO_WORLD_ENU;
+  lights.light_size = sizeof(AtmoLightPoint);
+  lights.world_origin_geodetic[0] = 47.26;
+  lights.world_origin_geodetic[1] = 11.35;
+  lights.lights = &lamp;
+  lights.light_count = 1;
+  auto layer = make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
+  layer.type = ATMO_CLOUD_CUMULUS;
+  layer.coverage_oktas = 5;
+  layer.base_m = 1200.0;
+  layer.top_m = 2200.0;
+  layer.area_size_m = 6000.0;
+  layer.seed = 4;
+  auto clouds = make<AtmoCloudsState>(ATMO_TYPE_CLOUDS_STATE);
+  clouds.origin_geodetic[0] = 47.26;
+  clouds.origin_geodetic[1] = 11.35;
+  clouds.layers = &layer;
+  clouds.layer_count = 1;
+  AtmoResult r;
+  if ((r = api.set_fog(context, &fog)) != ATMO_SUCCESS) return std::string("set_fog failed: ") + api.last_error(context);
+  if ((r = api.set_lights(context, &lights)) != ATMO_SUCCESS)
+    return std::string("set_lights failed: ") + api.last_error(context);
+  if ((r = api.set_clouds(context, &clouds)) != ATMO_SUCCESS)
+    return std::string("set_clouds failed: ") + api.last_error(context);
+  return {};
+}
+
+const char* const kPassNames[] = {"sky", "aerial perspective", "clouds", "night sky", "light glows"};
+
+// Pending GL error flags, drained (each flag once).
+std::vector<GLenum> take_gl_errors() {
+  std::vector<GLenum> errors;
+  for (GLenum e = glGetError(); e != GL_NO_ERROR && errors.size() < 8; e = glGetError()) errors.push_back(e);
+  return errors;
+}
+
 CheckResult gl_state_check(const std::string& path, HeadlessGl::Profile profile, bool unusual) {
   Session s;
   if (!s.open(path, profile, /*init_gl=*/false)) return fail(s.error);
   const auto& api = s.plugin.api();
   const int size = 64;  // UnusualGlState's framebuffer is 64x64
   unsigned depth = support::make_split_depth_texture(size, size, 0.9999f);
-  auto frame = valid_frame();
+  auto frame = night_frame();
   auto view = valid_view(size, size, depth);
   api.set_frame(s.context, &frame);
   api.set_view(s.view, &view);
+  std::string why = give_every_pass_work(api, s.context);
+  if (!why.empty()) return fail(why);
   // The default state still needs a complete framebuffer (surfaceless EGL has none).
   std::string target_error;
   std::unique_ptr<OffscreenTarget> target;
@@ -620,24 +678,38 @@ CheckResult gl_state_check(const std::string& path, HeadlessGl::Profile profile,
 
   size_t values = 0;
   int calls = 0;
-  auto probe = [&](const std::string& what, const std::function<AtmoResult()>& call) -> std::string {
+  // Each call runs with the host's GL errors GL_INVALID_ENUM and GL_INVALID_VALUE pending: they must still be
+  // pending after it (the plugin must not consume the host's errors), and no state value may change.
+  auto probe = [&](const std::string& what, const std::function<AtmoResult()>& call, bool must_draw = false) {
     support::GlStateSnapshot before = support::capture_gl_state();
     values = before.values.size();
+    glEnable(GL_NONE);              // GL_INVALID_ENUM
+    glViewport(0, 0, -1, -1);       // GL_INVALID_VALUE
     AtmoResult r = call();
+    std::vector<GLenum> errors = take_gl_errors();
     support::GlStateSnapshot after = support::capture_gl_state();
     ++calls;
     if (r < 0) return what + " failed: " + name(s.plugin, r) + ": " + api.last_error(s.context);
+    if (must_draw && r != ATMO_SUCCESS) return what + " returned " + name(s.plugin, r) + ": it must draw here";
+    const bool kept = errors.size() == 2 && std::count(errors.begin(), errors.end(), GL_INVALID_ENUM) == 1 &&
+                      std::count(errors.begin(), errors.end(), GL_INVALID_VALUE) == 1;
+    if (!kept) {
+      std::string got;
+      for (GLenum e : errors) got += (got.empty() ? "" : ", ") + std::to_string(e);
+      return what + " did not keep the host's pending GL errors GL_INVALID_ENUM (1280) and GL_INVALID_VALUE (1281): "
+                    "pending after the call: " + (got.empty() ? "none" : got);
+    }
     std::string leaks = state_leaks(before, after);
     return leaks.empty() ? std::string() : what + " changed GL state: " + leaks;
   };
-  std::string why;
   if (!(why = probe("gl_init", [&] { return api.gl_init(s.context); })).empty()) return fail(why);
-  const char* names[] = {"sky", "aerial perspective", "clouds", "night sky", "light glows"};
-  for (int pass_index = 0; pass_index < ATMO_PASS_COUNT; ++pass_index) {
-    if (!(why = probe(std::string("render_pass(") + names[pass_index] + ")",
-                      [&] { return s.render(static_cast<AtmoPass>(pass_index)); }))
-             .empty())
-      return fail(why);
+  // Every pass draws, twice: the first call creates its GL objects, the second reuses them.
+  for (const char* call : {"first", "second"}) {
+    for (int pass_index = 0; pass_index < ATMO_PASS_COUNT; ++pass_index) {
+      const std::string what = std::string(call) + " render_pass(" + kPassNames[pass_index] + ")";
+      if (!(why = probe(what, [&] { return s.render(static_cast<AtmoPass>(pass_index)); }, true)).empty())
+        return fail(why);
+    }
   }
   // A second frame after the atmosphere changed (re-uploads the table).
   auto atm = make<AtmoAtmosphereState>(ATMO_TYPE_ATMOSPHERE_STATE);
@@ -646,12 +718,112 @@ CheckResult gl_state_check(const std::string& path, HeadlessGl::Profile profile,
   if (!(why = probe("render_pass(sky) with a new table", [&] { return s.render(ATMO_PASS_SKY); })).empty()) return fail(why);
   auto lighting = make<AtmoLighting>(ATMO_TYPE_LIGHTING);
   if (!(why = probe("get_lighting", [&] { return api.get_lighting(s.view, &lighting); })).empty()) return fail(why);
+  auto fog_lighting = make<AtmoFogLighting>(ATMO_TYPE_FOG_LIGHTING);
+  if (!(why = probe("get_fog_lighting", [&] { return api.get_fog_lighting(s.view, &fog_lighting); })).empty())
+    return fail(why);
+  auto shadows = make<AtmoCloudShadows>(ATMO_TYPE_CLOUD_SHADOWS);
+  if (!(why = probe("get_cloud_shadows", [&] { return api.get_cloud_shadows(s.view, &shadows); })).empty())
+    return fail(why);
   if (!(why = probe("gl_shutdown", [&] { return api.gl_shutdown(s.context); })).empty()) return fail(why);
   if (values < 40) return fail("only " + std::to_string(values) + " GL state values compared; need >= 40");
   odd.reset();
   glDeleteTextures(1, &depth);
-  return pass(std::to_string(calls) + " calls, " + std::to_string(values) + " GL state values unchanged by each; GL " +
-              s.gl->version());
+  return pass(std::to_string(calls) + " calls (every pass drawing, first and second call), " + std::to_string(values) +
+              " GL state values unchanged and the host's GL errors kept by each; GL " + s.gl->version());
+}
+
+// Fixed-function state of a compatibility context that a host may leave on and
+// that changes what a program's fragments write: every pass must draw the
+// same image with it (bit for bit) as with the default state.
+struct OddHostState {
+  const char* what;
+  std::function<void()> set, reset;
+};
+
+std::vector<OddHostState> odd_fixed_function_states() {
+  using AlphaFunc = void (*)(GLenum, GLfloat);
+  constexpr GLenum kAlphaTest = 0x0BC0, kClampFragmentColor = 0x891B;
+  static const AlphaFunc alpha_func = reinterpret_cast<AlphaFunc>(HeadlessGl::get_proc_address(nullptr, "glAlphaFunc"));
+  return {
+      {"GL_ALPHA_TEST on, glAlphaFunc(GL_NEVER)", [] { glEnable(kAlphaTest); alpha_func(GL_NEVER, 0.0f); },
+       [] { glDisable(kAlphaTest); alpha_func(GL_ALWAYS, 0.0f); }},
+      {"glClampColor(GL_CLAMP_FRAGMENT_COLOR, GL_TRUE)", [] { glClampColor(kClampFragmentColor, GL_TRUE); },
+       [] { glClampColor(kClampFragmentColor, 0x891D /* GL_FIXED_ONLY */); }},
+      {"GL_COLOR_LOGIC_OP on (GL_COPY)", [] { glEnable(GL_COLOR_LOGIC_OP); glLogicOp(GL_COPY); },
+       [] { glDisable(GL_COLOR_LOGIC_OP); }},
+  };
+}
+
+CheckResult check_fixed_function_state(const std::string& path) {
+  Session s;
+  if (!s.open(path, HeadlessGl::Profile::Compatibility)) return fail(s.error);
+  if (s.gl->is_core()) return fail("no compatibility-profile context: " + s.gl->version());
+  const auto& api = s.plugin.api();
+  const int size = 48;
+  std::string why;
+  auto target = OffscreenTarget::create(size, size, &why);
+  if (!target) return fail(why);
+  unsigned depth = support::make_split_depth_texture(size, size, 0.9999f);
+  if (!(why = give_every_pass_work(api, s.context)).empty()) return fail(why);
+  // Noon and midnight (Moon and stars), exposed so that the sky, the Moon and the lamp's glow exceed 1.
+  struct Scene {
+    AtmoFrameState frame;
+    double exposure;
+  };
+  const Scene scenes[] = {{valid_frame(), 1e-2}, {night_frame(), 1e3}};
+  std::vector<support::Image> reference;
+  auto draw_all = [&](std::vector<support::Image>* out) -> std::string {
+    out->clear();
+    for (const Scene& scene : scenes) {
+      auto view = valid_view(size, size, depth);
+      view.exposure_scale = scene.exposure;
+      api.set_frame(s.context, &scene.frame);
+      api.set_view(s.view, &view);
+      for (int p = 0; p < ATMO_PASS_COUNT; ++p) {
+        target->clear(0.25f, 0.5f, 0.75f, 1.0f);  // the host's geometry
+        AtmoResult r = s.render(static_cast<AtmoPass>(p));
+        if (r < 0) return std::string("render_pass(") + kPassNames[p] + ") failed: " + api.last_error(s.context);
+        out->push_back(target->read_color());
+      }
+    }
+    return {};
+  };
+  std::vector<support::Image> warm;
+  if (!(why = draw_all(&warm)).empty() || !(why = draw_all(&reference)).empty()) return fail(why);
+  auto compare = [&](const std::vector<support::Image>& got, const std::string& state) -> std::string {
+    for (size_t i = 0; i < got.size(); ++i) {
+      size_t differing = 0;
+      double worst = 0.0;
+      for (size_t k = 0; k < got[i].rgba.size(); ++k) {
+        const double d = std::abs(double(got[i].rgba[k]) - double(reference[i].rgba[k]));
+        if (got[i].rgba[k] != reference[i].rgba[k]) ++differing;
+        if (d > worst || std::isnan(d)) worst = d;
+      }
+      if (differing) {
+        const int p = static_cast<int>(i % ATMO_PASS_COUNT);
+        return std::string("render_pass(") + kPassNames[p] + ") at " + (i < ATMO_PASS_COUNT ? "noon" : "midnight") +
+               " with " + state + ": " + std::to_string(differing) + " of " + std::to_string(got[i].rgba.size()) +
+               " channel values differ from the default state's image, largest |difference| " + std::to_string(worst);
+      }
+    }
+    return {};
+  };
+  std::vector<support::Image> again;
+  if (!(why = draw_all(&again)).empty()) return fail(why);
+  if (!(why = compare(again, "the default state again (not repeatable)")).empty()) return fail(why);
+  int states = 0;
+  for (const OddHostState& odd : odd_fixed_function_states()) {
+    target->bind();
+    odd.set();
+    std::vector<support::Image> got;
+    why = draw_all(&got);
+    odd.reset();
+    if (why.empty()) why = compare(got, odd.what);
+    if (!why.empty()) return fail(why);
+    ++states;
+  }
+  glDeleteTextures(1, &depth);
+  return pass(std::to_string(states) + " host states x 5 passes x 2 scenes, bit-identical to the default state's images");
 }
 
 // The oldest GL the ABI promises. Mesa honours MESA_GL_VERSION_OVERRIDE when
@@ -712,9 +884,13 @@ std::vector<Check> all_checks() {
        [](P p) { return gl_state_check(p, HeadlessGl::Profile::Core, false); }},
       {"GL state unchanged by every call (unusual host state, core)",
        [](P p) { return gl_state_check(p, HeadlessGl::Profile::Core, true); }},
+      {"GL state unchanged by every call (default host state, compatibility profile: VAO 0, array buffer 0)",
+       [](P p) { return gl_state_check(p, HeadlessGl::Profile::Compatibility, false); }},
       {"GL state unchanged by every call (unusual host state, compatibility profile)",
        [](P p) { return gl_state_check(p, HeadlessGl::Profile::Compatibility, true); }},
       {"OpenGL 3.3 core context: draws, and GL state unchanged", check_gl33},
+      {"every pass draws the same image under alpha test, colour clamping, logic op (compatibility profile)",
+       check_fixed_function_state},
   };
 }
 
