@@ -138,6 +138,10 @@ GlStateGuard::GlStateGuard(int units)
   draw_buffers_changed_ = false;
 
   // State that changes a fragment's output, which no pass wants: saved and switched off.
+#ifdef ATMO_FAULT_IGNORE_FIXED_FUNCTION  // test-only fault: a plugin that relies on the host's defaults
+  compatibility_ = false;
+  auto take_disabled = [](GLenum cap) { return glIsEnabled(cap); };
+#endif
   logic_op_ = take_disabled(GL_COLOR_LOGIC_OP);  // on, it also disables blending
   polygon_smooth_ = take_disabled(GL_POLYGON_SMOOTH);
   alpha_to_coverage_ = take_disabled(GL_SAMPLE_ALPHA_TO_COVERAGE);
@@ -186,7 +190,9 @@ GlStateGuard::~GlStateGuard() {
   --t_guard_depth;
   if (outermost_) {
     while (glGetError() != GL_NO_ERROR) {}  // the plugin's own errors were reported (check_gl) or are not the host's
+#ifndef ATMO_FAULT_DROP_HOST_GL_ERRORS  // test-only fault: a plugin that clears the host's GL errors
     for (int i = 0; i < host_error_count_; ++i) raise_gl_error(host_errors_[i]);
+#endif
   }
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(draw_fbo_));  // first: draw buffers are its state
   if (draw_buffers_changed_) {
