@@ -736,6 +736,9 @@ CheckResult gl_state_check(const std::string& path, HeadlessGl::Profile profile,
   run("get_cloud_shadows", [&] { return api.get_cloud_shadows(s.view, &shadows); });
   run("gl_shutdown", [&] { return api.gl_shutdown(s.context); });
   if (!problems.empty()) {
+    // State changes first: they are what breaks a host's later draws.
+    std::stable_partition(problems.begin(), problems.end(),
+                          [](const std::string& p) { return p.find(" changed GL state: ") != std::string::npos; });
     std::string all;
     for (size_t i = 0; i < problems.size() && i < 4; ++i) all += (i ? " | " : "") + problems[i];
     if (problems.size() > 4) all += " | ... (" + std::to_string(problems.size()) + " calls)";
