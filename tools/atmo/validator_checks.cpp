@@ -700,14 +700,15 @@ CheckResult gl_state_check(const std::string& path, HeadlessGl::Profile profile,
     ++calls;
     if (r < 0) return what + " failed: " + name(s.plugin, r) + ": " + api.last_error(s.context);
     if (must_draw && r != ATMO_SUCCESS) return what + " returned " + name(s.plugin, r) + ": it must draw here";
+    std::string leaks = state_leaks(before, after);
+    if (!leaks.empty()) return what + " changed GL state: " + leaks;
     if (errors.size() != 1 || errors[0] != host_error.first) {
       std::string got;
       for (GLenum e : errors) got += (got.empty() ? "" : ", ") + std::to_string(e);
       return what + " did not keep the host's pending GL error " + std::to_string(host_error.first) +
              ": pending after the call: " + (got.empty() ? "none" : got);
     }
-    std::string leaks = state_leaks(before, after);
-    return leaks.empty() ? std::string() : what + " changed GL state: " + leaks;
+    return std::string();
   };
   // Every problem is collected (a plugin that drops the host's errors may leak state too).
   std::vector<std::string> problems;
