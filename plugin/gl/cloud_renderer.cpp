@@ -464,7 +464,8 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
 
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_DEPTH_TEST);
-  glDisable(GL_BLEND);
+  glDisablei(GL_BLEND, 0);  // the buffers the guard restores (glDisable would switch off all eight)
+  glDisablei(GL_BLEND, 1);
   glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glBindVertexArray(vao_);
