@@ -14,14 +14,23 @@ gl::SkyMethod resolve_sky_method(uint32_t requested, double eye_altitude_m, doub
   return gl::SkyMethod::kLut;
 }
 
+// The highest ground on Earth (Everest, 8 849 m): no terrain farther than the eye's horizon plus this summit's
+// horizon can be seen.
+constexpr double kHighestGroundM = 8849.0;
+
 // The range does not depend on the projection: clamped to a finite far
 // plane, the slices fell elsewhere than with reversed Z's infinite one, and the
 // three depth conventions gave different images (issue 18: sunset_haze p95
 // 0.57 %, overcast_dusk 3.8 % even with the two-slice reading; with one range
-// 7.6e-5). The state and projection stay in the signature for its callers.
-float aerial_volume_range_m(const core::Scene& scene, const AtmoViewState& /*state*/,
-                            const glm::dmat4& /*view_from_clip*/) {
-  const double range = twin::aerial_geometric_range(scene.atmosphere, static_cast<float>(scene.eye_altitude_m));
+// 7.6e-5). The projection stays in the signature for its callers.
+float aerial_volume_range_m(const core::Scene& scene, const AtmoViewState& state, const glm::dmat4& /*view_from_clip*/) {
+  if (state.aerial_range_m != 0.0) return static_cast<float>(state.aerial_range_m);  // the host's (validated)
+  const auto& atm = scene.atmosphere;
+  // The end of the air along the horizon, and the farthest ground in sight.
+  double range = twin::aerial_geometric_range(atm, static_cast<float>(scene.eye_altitude_m));
+  const double r0 = atm.bottom_radius_m, r = r0 + std::max(scene.eye_altitude_m, 0.0);
+  const double ground_m = std::sqrt(r * r - r0 * r0) + std::sqrt((r0 + kHighestGroundM) * (r0 + kHighestGroundM) - r0 * r0);
+  range = std::min(range, ground_m);
   return static_cast<float>(std::max(range, 1000.0));
 }
 
@@ -36,6 +45,10 @@ gl::PassInputs make_pass_inputs(const core::Scene& scene, const AtmoView_T& view
   in.view_from_clip = glm::mat4(view.eye.view_from_clip);
   for (int i = 0; i < 4; ++i) in.viewport[i] = v.viewport[i];
   in.depth_texture = v.depth_texture;
+  if (v.depth_origin == ATMO_DEPTH_ORIGIN_VIEWPORT) {
+    in.depth_origin[0] = v.viewport[0];
+    in.depth_origin[1] = v.viewport[1];
+  }
   in.depth_convention = static_cast<int>(v.depth_convention);
   in.log_far_m = static_cast<float>(v.far_plane_m);
   in.log_coefficient = static_cast<float>(v.log_depth_coefficient != 0.0 ? v.log_depth_coefficient : 1.0);

@@ -40,7 +40,6 @@ struct CloudRenderer::Item {
 
 bool CloudRenderer::init(std::string* error) {
   if (initialised()) return true;
-  while (glGetError() != GL_NO_ERROR) {}
   GlStateGuard guard(kUnitsUsed);
   march_.program = build_program("fullscreen.vert", "clouds_march.frag", "", error);
   if (march_.program) bake_.program = build_program("fullscreen.vert", "clouds_impostor_bake.frag", "", error);
@@ -208,7 +207,6 @@ bool CloudRenderer::shadow_texture(const clouds::CloudShadowMap& map, uint64_t f
     *texture = shadow_;
     return true;
   }
-  while (glGetError() != GL_NO_ERROR) {}
   GlStateGuard guard(1);
   if (!shadow_) glGenTextures(1, &shadow_);
   glActiveTexture(GL_TEXTURE0);
@@ -369,9 +367,8 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
   *drawn = false;
   stats_ = CloudDrawStats{};
   if (!frame.field || frame.field->instances.empty()) return true;
-  if (!init(error)) return false;
-  while (glGetError() != GL_NO_ERROR) {}
   GlStateGuard guard(kUnitsUsed);
+  if (!init(error)) return false;
   guard.use_single_draw_buffer();
   const std::vector<clouds::CloudInstance>& instances = frame.field->instances;
   if (frame.field_version != impostor_field_version_ || impostor_of_.size() != instances.size() ||
@@ -467,7 +464,8 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
 
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_DEPTH_TEST);
-  glDisable(GL_BLEND);
+  glDisablei(GL_BLEND, 0);  // the buffers the guard restores (glDisable would switch off all eight)
+  glDisablei(GL_BLEND, 1);
   glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glBindVertexArray(vao_);

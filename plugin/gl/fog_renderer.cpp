@@ -112,7 +112,7 @@ bool FogRenderer::upload_tables(const fog::FogTable& airlight, const fog::FogTab
 }
 
 bool FogRenderer::draw(const Renderer&, const PassInputs& in, const FogDrawInputs& fog, std::string* error) {
-  while (glGetError() != GL_NO_ERROR) {}
+  GlStateGuard guard(kUnitsUsed);  // first: building the programs binds the glows' VAO and buffer
   if (!build_programs(error)) return false;
   const fog::FogFrame& frame = *fog.frame;
   // The glows' rectangles and instance data.
@@ -139,7 +139,6 @@ bool FogRenderer::draw(const Renderer&, const PassInputs& in, const FogDrawInput
     stats_.covered_pixels += (r.z - r.x) * half_w * (r.w - r.y) * half_h;
   }
 
-  GlStateGuard guard(kUnitsUsed);
   guard.use_single_draw_buffer();
   glViewport(in.viewport[0], in.viewport[1], in.viewport[2], in.viewport[3]);
   glDisable(GL_DEPTH_TEST);

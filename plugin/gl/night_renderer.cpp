@@ -29,7 +29,6 @@ bool NightRenderer::init(std::string* error) {
     if (error) *error = "night renderer: GL is not loaded (initialise the Renderer first)";
     return false;
   }
-  while (glGetError() != GL_NO_ERROR) {}
   GlStateGuard guard(kUnitsUsed);
   for (int m = 0; m < kMethods; ++m) {
     if (!build(&programs_[m], static_cast<SkyMethod>(m), error)) {
@@ -112,7 +111,7 @@ bool NightRenderer::draw_points(const PassInputs& in, const NightSkyTextures& te
     return false;
   }
   if (count > static_cast<std::size_t>(INT32_MAX)) count = static_cast<std::size_t>(INT32_MAX);
-  while (glGetError() != GL_NO_ERROR) {}  // errors the host left are not ours
+  GlStateGuard outer(kUnitsUsed);  // keeps the host's GL errors
 
   const Program& p = programs_[static_cast<int>(in.method)];
   const glm::mat3 view_from_enu = glm::transpose(in.enu_from_view);

@@ -16,6 +16,7 @@ PassUniforms locate_pass_uniforms(GLuint program) {
   u.multiple_scattering_size = loc("u_multiple_scattering_size");
   u.depth = loc("u_depth");
   u.has_depth = loc("u_has_depth");
+  u.depth_origin = loc("u_depth_origin");
   u.depth_convention = loc("u_depth_convention");
   u.log_far = loc("u_log_far_m");
   u.log_coefficient = loc("u_log_coefficient");
@@ -55,6 +56,7 @@ void set_pass_uniforms(const PassUniforms& u, const PassInputs& in, const PassTa
   glUniform2fv(u.multiple_scattering_size, 1, glm::value_ptr(sizes.multiple_scattering));
   glUniform1i(u.depth, static_cast<GLint>(kDepthUnit));
   glUniform1i(u.has_depth, in.depth_texture != 0 ? 1 : 0);
+  glUniform2i(u.depth_origin, in.depth_origin[0], in.depth_origin[1]);
   glUniform1i(u.depth_convention, in.depth_convention);
   glUniform1f(u.log_far, in.log_far_m);
   glUniform1f(u.log_coefficient, in.log_coefficient);

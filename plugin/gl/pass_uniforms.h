@@ -33,7 +33,7 @@ struct PassUniforms {
   // Locations (-1 where a program does not use a uniform).
   AtmosphereUniforms atmosphere;
   GLint transmittance = -1, transmittance_size = -1, multiple_scattering = -1, multiple_scattering_size = -1,
-        depth = -1, has_depth = -1, depth_convention = -1, log_far = -1, log_coefficient = -1, view_from_clip = -1,
+        depth = -1, has_depth = -1, depth_origin = -1, depth_convention = -1, log_far = -1, log_coefficient = -1, view_from_clip = -1,
         enu_from_view = -1, viewport = -1, eye_altitude = -1, sun_direction = -1, exposure = -1,
         output_encoding = -1, steps = -1, sky_view = -1, sky_view_size = -1, aerial_inscatter = -1,
         aerial_transmittance = -1, aerial_range = -1, aerial_slices = -1, analytic_weight = -1;

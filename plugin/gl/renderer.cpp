@@ -43,9 +43,7 @@ bool Renderer::init(ProcLoader loader, void* user, std::string* error) {
                         std::to_string(GLAD_VERSION_MAJOR(version)) + "." + std::to_string(GLAD_VERSION_MINOR(version));
     return false;
   }
-  while (glGetError() != GL_NO_ERROR) {}  // the host's errors are not ours
-
-  GlStateGuard guard(kUnitsUsed);
+  GlStateGuard guard(kUnitsUsed);  // first: it keeps the host's GL errors
   bool ok = build(&sky_view_builder_, "sky_view_lut.frag", SkyMethod::kLut, error) &&
             build(&aerial_volume_builder_, "aerial_volume_lut.frag", SkyMethod::kLut, error);
   for (int m = 0; ok && m < kMethods; ++m) {
@@ -406,7 +404,7 @@ bool Renderer::moon_disc_window_box(const PassInputs& in, int box[4]) const {
 }
 
 bool Renderer::draw_sky(const PassInputs& in, std::string* error) {
-  while (glGetError() != GL_NO_ERROR) {}  // errors the host left are not ours
+  GlStateGuard guard(kUnitsUsed);  // the tables' lazy updates are inside it too
   use_table_sizes(in.table_sizes);
   const bool needs_sky_view = in.method == SkyMethod::kLut ||
                               (in.method == SkyMethod::kAnalytic && in.analytic_weight < 1.0f);
@@ -438,7 +436,7 @@ bool Renderer::draw_sky(const PassInputs& in, std::string* error) {
 }
 
 bool Renderer::night_sky_textures(const PassInputs& in, NightSkyTextures* out, std::string* error) {
-  while (glGetError() != GL_NO_ERROR) {}
+  GlStateGuard guard(kUnitsUsed);
   use_table_sizes(in.table_sizes);
   const bool needs_sky_view = in.output_encoding == 1 &&
                               (in.method == SkyMethod::kLut ||
@@ -468,7 +466,7 @@ bool Renderer::prepare_pass_tables(const PassUniforms& uniforms, const PassInput
 }
 
 bool Renderer::draw_aerial_perspective(const PassInputs& in, std::string* error) {
-  while (glGetError() != GL_NO_ERROR) {}
+  GlStateGuard guard(kUnitsUsed);
   use_table_sizes(in.table_sizes);
   if (in.method != SkyMethod::kMarch && !ensure_aerial_volume(in, error)) return false;
   const SkyMethod variant = in.method == SkyMethod::kMarch ? SkyMethod::kMarch : SkyMethod::kLut;

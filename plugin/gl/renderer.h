@@ -83,6 +83,7 @@ struct PassInputs {
   glm::mat4 view_from_clip{1.0f};
   int viewport[4] = {0, 0, 1, 1};
   GLuint depth_texture = 0;
+  int depth_origin[2] = {0, 0};  // the window pixel of the depth texture's texel (0, 0)
   int depth_convention = 0;
   float log_far_m = 1.0f;
   float log_coefficient = 1.0f;

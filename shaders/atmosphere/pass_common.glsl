@@ -27,6 +27,7 @@ uniform sampler2D u_multiple_scattering;
 uniform vec2 u_multiple_scattering_size;
 uniform sampler2D u_depth;        // host depth texture (window-space values)
 uniform int u_has_depth;
+uniform ivec2 u_depth_origin;  // the window pixel of its texel (0, 0): 0, or the viewport's corner (AtmoViewState.depth_origin)
 uniform int u_depth_convention;   // AtmoDepthConvention
 uniform float u_log_far_m;
 uniform float u_log_coefficient;
@@ -51,7 +52,8 @@ uniform sampler2D u_cloud_shadow;          // its map (R16F direct transmittance
 
 vec2 ndc_xy() { return (gl_FragCoord.xy - u_viewport.xy) / u_viewport.zw * 2.0f - 1.0f; }
 
-float host_depth() { return texelFetch(u_depth, ivec2(gl_FragCoord.xy), 0).r; }
+// The host's depth at this pixel: the texel at the window pixel less the texture's origin (AtmoViewState.depth_origin).
+float host_depth() { return texelFetch(u_depth, ivec2(gl_FragCoord.xy) - u_depth_origin, 0).r; }
 
 
 vec3 encode_output(vec3 radiance_cd_m2) {

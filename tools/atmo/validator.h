@@ -26,7 +26,7 @@ struct Options {
   std::string plugin_path;
   std::string filter;        // substring of check names; empty = all
   bool in_process = false;   // debugging: no fork
-  int timeout_s = 120;
+  int timeout_s = 300;  // per check; the GL state checks draw every pass twice (llvmpipe on a loaded machine: > 120 s)
 };
 
 // Prints "PASS name" / "FAIL name: detail" per check and a summary line;

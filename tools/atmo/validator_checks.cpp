@@ -3,12 +3,16 @@
 // says what it saw when it fails.
 #include <glad/gl.h>
 
+#include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
 #include <memory>
 #include <sstream>
+#include <thread>
+#include <vector>
 
 #include "atmo/atmo.hpp"
 #include "atmo/atmo_loader.h"
@@ -602,16 +606,73 @@ std::string state_leaks(const support::GlStateSnapshot& before, const support::G
   return out;
 }
 
+// 2024-06-21 22:00 UTC, midnight at Innsbruck: the Sun 19 degrees down, so the night pass draws too.
+AtmoFrameState night_frame() {
+  auto f = valid_frame();
+  f.utc_posix_s += 12 * 3600.0;
+  return f;
+}
+
+// Fog, a lamp in view and a cumulus layer: with these (and a night frame and a
+// depth texture) every pass has something to draw, so each one's first call
+// (lazy creation of its GL objects) is checked, not only the sky's.
+std::string give_every_pass_work(const AtmoPluginApi& api, AtmoContext context) {
+  auto fog = make<AtmoFogState>(ATMO_TYPE_FOG_STATE);
+  fog.visibility_m = 3000.0;
+  static AtmoLightPoint lamp{};  // copied by set_lights
+  lamp.position_m[1] = 400.0;   // 400 m north of the origin, on the ground (the eye is 600 m up)
+  lamp.intensity_cd = 1e5;
+  lamp.color[0] = lamp.color[1] = lamp.color[2] = 1.0;
+  auto lights = make<AtmoLightsState>(ATMO_TYPE_LIGHTS_STATE);
+  lights.world_frame = ATMO_WORLD_ENU;
+  lights.light_size = sizeof(AtmoLightPoint);
+  lights.world_origin_geodetic[0] = 47.26;
+  lights.world_origin_geodetic[1] = 11.35;
+  lights.lights = &lamp;
+  lights.light_count = 1;
+  auto layer = make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
+  layer.type = ATMO_CLOUD_CUMULUS;
+  layer.coverage_oktas = 4;  // a few small clouds ahead, 200-800 m above the eye: cheap to draw on llvmpipe
+  layer.base_m = 800.0;
+  layer.top_m = 1400.0;
+  layer.area_size_m = 2500.0;
+  layer.seed = 4;
+  auto clouds = make<AtmoCloudsState>(ATMO_TYPE_CLOUDS_STATE);
+  clouds.origin_geodetic[0] = 47.26;
+  clouds.origin_geodetic[1] = 11.35;
+  clouds.layers = &layer;
+  clouds.layer_count = 1;
+  AtmoResult r;
+  if ((r = api.set_fog(context, &fog)) != ATMO_SUCCESS) return std::string("set_fog failed: ") + api.last_error(context);
+  if ((r = api.set_lights(context, &lights)) != ATMO_SUCCESS)
+    return std::string("set_lights failed: ") + api.last_error(context);
+  if ((r = api.set_clouds(context, &clouds)) != ATMO_SUCCESS)
+    return std::string("set_clouds failed: ") + api.last_error(context);
+  return {};
+}
+
+const char* const kPassNames[] = {"sky", "aerial perspective", "clouds", "night sky", "light glows"};
+
+// Pending GL error flags, drained (each flag once).
+std::vector<GLenum> take_gl_errors() {
+  std::vector<GLenum> errors;
+  for (GLenum e = glGetError(); e != GL_NO_ERROR && errors.size() < 8; e = glGetError()) errors.push_back(e);
+  return errors;
+}
+
 CheckResult gl_state_check(const std::string& path, HeadlessGl::Profile profile, bool unusual) {
   Session s;
   if (!s.open(path, profile, /*init_gl=*/false)) return fail(s.error);
   const auto& api = s.plugin.api();
   const int size = 64;  // UnusualGlState's framebuffer is 64x64
   unsigned depth = support::make_split_depth_texture(size, size, 0.9999f);
-  auto frame = valid_frame();
+  auto frame = night_frame();
   auto view = valid_view(size, size, depth);
+  view.exposure_scale = 1e3;  // a night exposure: the stars show, so the night pass draws
   api.set_frame(s.context, &frame);
   api.set_view(s.view, &view);
+  std::string why = give_every_pass_work(api, s.context);
+  if (!why.empty()) return fail(why);
   // The default state still needs a complete framebuffer (surfaceless EGL has none).
   std::string target_error;
   std::unique_ptr<OffscreenTarget> target;
@@ -625,38 +686,178 @@ CheckResult gl_state_check(const std::string& path, HeadlessGl::Profile profile,
 
   size_t values = 0;
   int calls = 0;
-  auto probe = [&](const std::string& what, const std::function<AtmoResult()>& call) -> std::string {
+  // Each call runs with a host's GL error pending (GL_INVALID_ENUM, GL_INVALID_VALUE, GL_INVALID_OPERATION in
+  // turn; Mesa keeps one flag at a time): it must still be pending after the call (the plugin must not consume
+  // the host's errors), and no state value may change.
+  GLuint deleted_vao = 0;  // a name no longer in use: binding it is GL_INVALID_OPERATION and changes nothing
+  glGenVertexArrays(1, &deleted_vao);
+  glDeleteVertexArrays(1, &deleted_vao);
+  const std::pair<GLenum, std::function<void()>> host_errors[] = {
+      {GL_INVALID_ENUM, [] { glEnable(GL_NONE); }},
+      {GL_INVALID_VALUE, [] { glViewport(0, 0, -1, -1); }},
+      {GL_INVALID_OPERATION, [&] { glBindVertexArray(deleted_vao); }}};
+  auto probe = [&](const std::string& what, const std::function<AtmoResult()>& call, bool must_draw = false) {
     support::GlStateSnapshot before = support::capture_gl_state();
     values = before.values.size();
+    const auto& host_error = host_errors[calls % 3];
+    host_error.second();
     AtmoResult r = call();
+    std::vector<GLenum> errors = take_gl_errors();
     support::GlStateSnapshot after = support::capture_gl_state();
     ++calls;
     if (r < 0) return what + " failed: " + name(s.plugin, r) + ": " + api.last_error(s.context);
+    if (must_draw && r != ATMO_SUCCESS) return what + " returned " + name(s.plugin, r) + ": it must draw here";
     std::string leaks = state_leaks(before, after);
-    return leaks.empty() ? std::string() : what + " changed GL state: " + leaks;
+    if (!leaks.empty()) return what + " changed GL state: " + leaks;
+    if (errors.size() != 1 || errors[0] != host_error.first) {
+      std::string got;
+      for (GLenum e : errors) got += (got.empty() ? "" : ", ") + std::to_string(e);
+      return what + " did not keep the host's pending GL error " + std::to_string(host_error.first) +
+             ": pending after the call: " + (got.empty() ? "none" : got);
+    }
+    return std::string();
   };
-  std::string why;
-  if (!(why = probe("gl_init", [&] { return api.gl_init(s.context); })).empty()) return fail(why);
-  const char* names[] = {"sky", "aerial perspective", "clouds", "night sky", "light glows"};
-  for (int pass_index = 0; pass_index < ATMO_PASS_COUNT; ++pass_index) {
-    if (!(why = probe(std::string("render_pass(") + names[pass_index] + ")",
-                      [&] { return s.render(static_cast<AtmoPass>(pass_index)); }))
-             .empty())
-      return fail(why);
+  // Every problem is collected (a plugin that drops the host's errors may leak state too).
+  std::vector<std::string> problems;
+  auto run = [&](const std::string& what, const std::function<AtmoResult()>& call, bool must_draw = false) {
+    std::string why = probe(what, call, must_draw);
+    if (!why.empty()) problems.push_back(why);
+  };
+  run("gl_init", [&] { return api.gl_init(s.context); });
+  // Every pass draws, twice: the first call creates its GL objects, the second reuses them.
+  for (const char* call : {"first", "second"}) {
+    for (int pass_index = 0; pass_index < ATMO_PASS_COUNT; ++pass_index) {
+      const std::string what = std::string(call) + " render_pass(" + kPassNames[pass_index] + ")";
+      run(what, [&] { return s.render(static_cast<AtmoPass>(pass_index)); }, true);
+    }
   }
   // A second frame after the atmosphere changed (re-uploads the table).
   auto atm = make<AtmoAtmosphereState>(ATMO_TYPE_ATMOSPHERE_STATE);
   atm.visibility_m = 3000;
   api.set_atmosphere(s.context, &atm);
-  if (!(why = probe("render_pass(sky) with a new table", [&] { return s.render(ATMO_PASS_SKY); })).empty()) return fail(why);
+  run("render_pass(sky) with a new table", [&] { return s.render(ATMO_PASS_SKY); });
   auto lighting = make<AtmoLighting>(ATMO_TYPE_LIGHTING);
-  if (!(why = probe("get_lighting", [&] { return api.get_lighting(s.view, &lighting); })).empty()) return fail(why);
-  if (!(why = probe("gl_shutdown", [&] { return api.gl_shutdown(s.context); })).empty()) return fail(why);
+  run("get_lighting", [&] { return api.get_lighting(s.view, &lighting); });
+  auto fog_lighting = make<AtmoFogLighting>(ATMO_TYPE_FOG_LIGHTING);
+  run("get_fog_lighting", [&] { return api.get_fog_lighting(s.view, &fog_lighting); });
+  auto shadows = make<AtmoCloudShadows>(ATMO_TYPE_CLOUD_SHADOWS);
+  run("get_cloud_shadows", [&] { return api.get_cloud_shadows(s.view, &shadows); });
+  run("gl_shutdown", [&] { return api.gl_shutdown(s.context); });
+  if (!problems.empty()) {
+    // State changes first: they are what breaks a host's later draws.
+    std::stable_partition(problems.begin(), problems.end(),
+                          [](const std::string& p) { return p.find(" changed GL state: ") != std::string::npos; });
+    std::string all;
+    for (size_t i = 0; i < problems.size() && i < 4; ++i) all += (i ? " | " : "") + problems[i];
+    if (problems.size() > 4) all += " | ... (" + std::to_string(problems.size()) + " calls)";
+    return fail(all);
+  }
   if (values < 40) return fail("only " + std::to_string(values) + " GL state values compared; need >= 40");
   odd.reset();
   glDeleteTextures(1, &depth);
-  return pass(std::to_string(calls) + " calls, " + std::to_string(values) + " GL state values unchanged by each; GL " +
-              s.gl->version());
+  return pass(std::to_string(calls) + " calls (every pass drawing, first and second call), " + std::to_string(values) +
+              " GL state values unchanged and the host's pending GL error kept by each; GL " + s.gl->version());
+}
+
+// Fixed-function state of a compatibility context that a host may leave on and
+// that changes what a program's fragments write: every pass must draw the
+// same image with it (bit for bit) as with the default state.
+struct OddHostState {
+  const char* what;
+  std::function<void()> set, reset;
+};
+
+std::vector<OddHostState> odd_fixed_function_states() {
+  using AlphaFunc = void (*)(GLenum, GLfloat);
+  constexpr GLenum kAlphaTest = 0x0BC0, kClampFragmentColor = 0x891B;
+  static const AlphaFunc alpha_func = reinterpret_cast<AlphaFunc>(HeadlessGl::get_proc_address(nullptr, "glAlphaFunc"));
+  return {
+      {"GL_ALPHA_TEST on, glAlphaFunc(GL_NEVER)", [] { glEnable(kAlphaTest); alpha_func(GL_NEVER, 0.0f); },
+       [] { glDisable(kAlphaTest); alpha_func(GL_ALWAYS, 0.0f); }},
+      {"glClampColor(GL_CLAMP_FRAGMENT_COLOR, GL_TRUE)", [] { glClampColor(kClampFragmentColor, GL_TRUE); },
+       [] { glClampColor(kClampFragmentColor, 0x891D /* GL_FIXED_ONLY */); }},
+      {"GL_COLOR_LOGIC_OP on (GL_COPY)", [] { glEnable(GL_COLOR_LOGIC_OP); glLogicOp(GL_COPY); },
+       [] { glDisable(GL_COLOR_LOGIC_OP); }},
+  };
+}
+
+CheckResult check_fixed_function_state(const std::string& path) {
+  Session s;
+  if (!s.open(path, HeadlessGl::Profile::Compatibility)) return fail(s.error);
+  if (s.gl->is_core()) return fail("no compatibility-profile context: " + s.gl->version());
+  const auto& api = s.plugin.api();
+  const int size = 32;
+  std::string why;
+  auto target = OffscreenTarget::create(size, size, &why);
+  if (!target) return fail(why);
+  unsigned depth = support::make_split_depth_texture(size, size, 0.9999f);
+  if (!(why = give_every_pass_work(api, s.context)).empty()) return fail(why);
+  // Noon and midnight (Moon and stars), exposed so that the sky, the Moon and the lamp's glow exceed 1.
+  struct Scene {
+    AtmoFrameState frame;
+    double exposure;
+  };
+  const Scene scenes[] = {{valid_frame(), 1e-2}, {night_frame(), 1e3}};
+  std::vector<support::Image> reference;
+  // One scene's five passes, each over the host's geometry colour.
+  auto draw_all = [&](const Scene& scene, std::vector<support::Image>* out) -> std::string {
+    out->clear();
+    auto view = valid_view(size, size, depth);
+    view.exposure_scale = scene.exposure;
+    api.set_frame(s.context, &scene.frame);
+    api.set_view(s.view, &view);
+    for (int p = 0; p < ATMO_PASS_COUNT; ++p) {
+      target->clear(0.25f, 0.5f, 0.75f, 1.0f);  // the host's geometry
+      AtmoResult r = s.render(static_cast<AtmoPass>(p));
+      if (r < 0) return std::string("render_pass(") + kPassNames[p] + ") failed: " + api.last_error(s.context);
+      out->push_back(target->read_color());
+    }
+    return {};
+  };
+  auto compare = [&](const std::vector<support::Image>& got, const char* when, const std::string& state) {
+    for (size_t i = 0; i < got.size(); ++i) {
+      size_t differing = 0;
+      double worst = 0.0;
+      for (size_t k = 0; k < got[i].rgba.size(); ++k) {
+        const double d = std::abs(double(got[i].rgba[k]) - double(reference[i].rgba[k]));
+        if (got[i].rgba[k] != reference[i].rgba[k]) ++differing;
+        if (d > worst || std::isnan(d)) worst = d;
+      }
+      if (differing) {
+        return std::string("render_pass(") + kPassNames[i] + ") at " + when + " with " + state + ": " +
+               std::to_string(differing) + " of " + std::to_string(got[i].rgba.size()) +
+               " channel values differ from the default state's image, largest |difference| " + std::to_string(worst);
+      }
+    }
+    return std::string();
+  };
+  int states = 0;
+  for (const Scene& scene : scenes) {
+    const char* when = &scene == &scenes[0] ? "noon" : "midnight";
+    // The default state's images, once the clouds' relighting for this light has settled (its worker thread
+    // remakes them some frames after the light changed).
+    std::vector<support::Image> again;
+    if (!(why = draw_all(scene, &reference)).empty()) return fail(why);
+    for (int tries = 0;; ++tries) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+      if (!(why = draw_all(scene, &again)).empty()) return fail(why);
+      if (compare(again, when, "the default state").empty()) break;
+      if (tries == 20) return fail(compare(again, when, "the default state again (not repeatable after 6 s)"));
+      reference = again;
+    }
+    for (const OddHostState& odd : odd_fixed_function_states()) {
+      target->bind();
+      odd.set();
+      std::vector<support::Image> got;
+      why = draw_all(scene, &got);
+      odd.reset();
+      if (why.empty()) why = compare(got, when, odd.what);
+      if (!why.empty()) return fail(why);
+      ++states;
+    }
+  }
+  glDeleteTextures(1, &depth);
+  return pass(std::to_string(states) + " host states and scenes x 5 passes, bit-identical to the default state's images");
 }
 
 // The oldest GL the ABI promises. Mesa honours MESA_GL_VERSION_OVERRIDE when
@@ -717,9 +918,13 @@ std::vector<Check> all_checks() {
        [](P p) { return gl_state_check(p, HeadlessGl::Profile::Core, false); }},
       {"GL state unchanged by every call (unusual host state, core)",
        [](P p) { return gl_state_check(p, HeadlessGl::Profile::Core, true); }},
+      {"GL state unchanged by every call (default host state, compatibility profile: VAO 0, array buffer 0)",
+       [](P p) { return gl_state_check(p, HeadlessGl::Profile::Compatibility, false); }},
       {"GL state unchanged by every call (unusual host state, compatibility profile)",
        [](P p) { return gl_state_check(p, HeadlessGl::Profile::Compatibility, true); }},
       {"OpenGL 3.3 core context: draws, and GL state unchanged", check_gl33},
+      {"every pass draws the same image under alpha test, colour clamping, logic op (compatibility profile)",
+       check_fixed_function_state},
   };
 }
 

@@ -278,6 +278,16 @@ typedef enum AtmoDepthConvention {
   ATMO_DEPTH_LOGARITHMIC = 2
 } AtmoDepthConvention;
 
+/* Which texel of depth_texture belongs to a pixel of the viewport. */
+typedef enum AtmoDepthTextureOrigin {
+  /* The texture covers the framebuffer: texel (x, y) is window pixel (x, y),
+     as for a depth attachment of the framebuffer the passes draw into. */
+  ATMO_DEPTH_ORIGIN_WINDOW = 0,
+  /* The texture covers the viewport only: texel (0, 0) is its lower-left pixel
+     (viewport[0], viewport[1]); e.g. VTK's renderer depth copied per viewport. */
+  ATMO_DEPTH_ORIGIN_VIEWPORT = 1
+} AtmoDepthTextureOrigin;
+
 typedef enum AtmoOutputEncoding {
   /* Linear Rec.709/sRGB primaries (D65 white): RGB in cd/m^2 times exposure_scale,
      for a float render target the host tone-maps itself. */
@@ -339,7 +349,8 @@ typedef struct AtmoViewState {
   int32_t viewport[4];          /* x, y, width, height; width, height > 0 */
 
   /* The host's depth, as a GL texture name (GL_TEXTURE_2D, any depth format),
-     sampled with texelFetch at the pixel of the viewport. 0: no depth — the sky
+     read with texelFetch at each pixel of the viewport, at the texel that
+     depth_origin (below) names: by default the window pixel. 0: no depth — the sky
      then covers the whole viewport and aerial perspective draws nothing. The
      plugin never writes depth; strictly by the GL spec the texture should not
      be attached to the framebuffer bound for the passes (docs/ABI.md). */
@@ -364,6 +375,17 @@ typedef struct AtmoViewState {
   uint32_t sky_view_table_size[2];
   uint32_t aerial_volume_size[3];
   uint32_t reserved3;           /* 0 */
+
+  /* --- Added after version 2 (a 440-byte host struct reads these as 0) --- */
+  uint32_t depth_origin;        /* AtmoDepthTextureOrigin; 0 = ATMO_DEPTH_ORIGIN_WINDOW */
+  uint32_t reserved4;           /* 0 */
+  /* How far the aerial-perspective volume's last slice reaches from the eye, m
+     (slice k of n at range * ((k + 1) / n)^2; geometry farther away gets the
+     last slice's haze). 0: default, the nearest of the far plane (when finite),
+     the farthest ground the eye can see (its horizon plus a 9 km summit's,
+     423 km from 600 m) and the end of the air along the horizon; an infinite
+     far plane does not lengthen it. Else [100, 1e7]. docs/SKY.md. */
+  double aerial_range_m;
 } AtmoViewState;
 
 /* ------------------------------------------------------------------------ */

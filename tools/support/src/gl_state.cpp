@@ -14,7 +14,7 @@ namespace {
 
 enum class Method { Integer, Boolean, Float, Double, Enabled, EnabledI, IntegerI, BooleanI, Unit, VertexAttrib };
 enum class Kind { Enum, Int, Bool, Float, Mask };
-enum class Ext { None, ClipControl, Debug };
+enum class Ext { None, ClipControl, Debug, Compatibility };  // Compatibility: only in a compatibility context
 
 struct Query {
   std::string name;
@@ -133,6 +133,16 @@ const std::vector<Query>& queries() {
     ATMO_Q(GL_LINE_SMOOTH, M::Enabled, K::Bool);
     ATMO_Q(GL_POLYGON_SMOOTH, M::Enabled, K::Bool);
     ATMO_Q(GL_PROGRAM_POINT_SIZE, M::Enabled, K::Bool);
+    ATMO_Q(GL_CLAMP_READ_COLOR, M::Integer, K::Enum);
+    // Fixed-function state of a compatibility context that still acts on a
+    // program's fragments (GL_INVALID_ENUM in a core context, so not queried there).
+    const std::pair<const char*, GLenum> compatibility[] = {
+        {"GL_ALPHA_TEST", 0x0BC0},        {"GL_ALPHA_TEST_FUNC", 0x0BC1}, {"GL_ALPHA_TEST_REF", 0x0BC2},
+        {"GL_CLAMP_VERTEX_COLOR", 0x891A}, {"GL_CLAMP_FRAGMENT_COLOR", 0x891B}, {"GL_POLYGON_STIPPLE", 0x0B42},
+        {"GL_POINT_SMOOTH", 0x0B10},      {"GL_POINT_SPRITE", 0x8861},    {"GL_LINE_STIPPLE", 0x0B24},
+        {"GL_INDEX_LOGIC_OP", 0x0BF1},    {"GL_SHADE_MODEL", 0x0B54},     {"GL_MAP_COLOR", 0x0D10},
+        {"GL_RED_SCALE", 0x0D14},         {"GL_RED_BIAS", 0x0D15},        {"GL_ALPHA_SCALE", 0x0D1C}};
+    for (const auto& c : compatibility) add(c.first, c.second, M::Float, K::Float, 1, 33, Ext::Compatibility);
     ATMO_Q(GL_POINT_SIZE, M::Float, K::Float);
     ATMO_Q(GL_POINT_SPRITE_COORD_ORIGIN, M::Integer, K::Enum);
     ATMO_Q(GL_PROVOKING_VERTEX, M::Integer, K::Enum);
@@ -307,6 +317,7 @@ GlStateSnapshot capture_gl_state() {
   int current_unit = -1;
   snap.values.reserve(queries().size());
   for (const Query& q : queries()) {
+    if (q.ext == Ext::Compatibility && core) continue;
     if (version < q.min_version) {
       const bool ext_ok = (q.ext == Ext::ClipControl && GLAD_GL_ARB_clip_control) ||
                           (q.ext == Ext::Debug && GLAD_GL_KHR_debug);
