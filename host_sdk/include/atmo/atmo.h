@@ -381,10 +381,11 @@ typedef struct AtmoViewState {
   uint32_t reserved4;           /* 0 */
   /* How far the aerial-perspective volume's last slice reaches from the eye, m
      (slice k of n at range * ((k + 1) / n)^2; geometry farther away gets the
-     last slice's haze). 0: default, the nearest of the far plane (when finite),
-     the farthest ground the eye can see (its horizon plus a 9 km summit's,
-     423 km from 600 m) and the end of the air along the horizon; an infinite
-     far plane does not lengthen it. Else [100, 1e7]. docs/SKY.md. */
+     last slice's haze). 0: default, the nearer of the farthest ground the eye
+     can see (its horizon plus a 9 km summit's, 423 km from 600 m) and the end
+     of the air along the horizon, whatever the projection (the depth
+     conventions and an infinite far plane draw one image). Else [100, 1e7].
+     docs/SKY.md. */
   double aerial_range_m;
 } AtmoViewState;
 
