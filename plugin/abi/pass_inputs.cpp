@@ -23,13 +23,15 @@ constexpr double kHighestGroundM = 8849.0;
 // three depth conventions gave different images (issue 18: sunset_haze p95
 // 0.57 %, overcast_dusk 3.8 % even with the two-slice reading; with one range
 // 7.6e-5). The projection stays in the signature for its callers.
-float aerial_volume_range_m(const core::Scene& scene, const AtmoViewState& state, const glm::dmat4& /*view_from_clip*/) {
+float aerial_volume_range_m(const core::Scene& scene, const AtmoViewState& state,
+                            const glm::dmat4& /*view_from_clip*/) {
   if (state.aerial_range_m != 0.0) return static_cast<float>(state.aerial_range_m);  // the host's (validated)
   const auto& atm = scene.atmosphere;
   // The end of the air along the horizon, and the farthest ground in sight.
   double range = twin::aerial_geometric_range(atm, static_cast<float>(scene.eye_altitude_m));
   const double r0 = atm.bottom_radius_m, r = r0 + std::max(scene.eye_altitude_m, 0.0);
-  const double ground_m = std::sqrt(r * r - r0 * r0) + std::sqrt((r0 + kHighestGroundM) * (r0 + kHighestGroundM) - r0 * r0);
+  const double summit = r0 + kHighestGroundM;
+  const double ground_m = std::sqrt(r * r - r0 * r0) + std::sqrt(summit * summit - r0 * r0);
   range = std::min(range, ground_m);
   return static_cast<float>(std::max(range, 1000.0));
 }

@@ -53,12 +53,13 @@ AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& 
   if (!ctx->cloud_renderer.draw(ctx->renderer, inputs, frame, &drawn, &error))
     return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_CLOUDS)", error);
   const gl::CloudDrawStats& st = ctx->cloud_renderer.last_stats();
-  ctx->services.log(ATMO_LOG_DEBUG,
-                    pass_log_prefix(ctx, view) + "clouds: " + std::to_string(st.in_view) + " in view, " + std::to_string(st.impostors_drawn) +
-                        " from impostors (" + std::to_string(st.impostors_created) + " new, " +
-                        std::to_string(st.impostors_updated) + " re-rendered, " + std::to_string(st.impostors_stale) +
-                        " stale left), " + std::to_string(st.marched) + " marched; impostor atlas " +
-                        std::to_string(ctx->cloud_renderer.impostor_bytes() >> 20) + " MiB");
+  ctx->services.log(ATMO_LOG_DEBUG, pass_log_prefix(ctx, view) + "clouds: " + std::to_string(st.in_view) +
+                                        " in view, " + std::to_string(st.impostors_drawn) + " from impostors (" +
+                                        std::to_string(st.impostors_created) + " new, " +
+                                        std::to_string(st.impostors_updated) + " re-rendered, " +
+                                        std::to_string(st.impostors_stale) + " stale left), " +
+                                        std::to_string(st.marched) + " marched; impostor atlas " +
+                                        std::to_string(ctx->cloud_renderer.impostor_bytes() >> 20) + " MiB");
   return drawn ? ATMO_SUCCESS : ATMO_STATUS_NOTHING_TO_DRAW;
 }
 

@@ -49,8 +49,8 @@ AtmoResult fog_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& sce
       !ctx->fog_renderer.draw(ctx->renderer, inputs, in, &error))
     return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_LIGHT_GLOWS)", error);
   const gl::FogDrawStats& st = ctx->fog_renderer.last_stats();
-  ctx->services.log(ATMO_LOG_DEBUG, pass_log_prefix(ctx, view) + "fog: " + std::to_string(st.lights) + " lights, " + std::to_string(st.glows_drawn) +
-                                        " glows drawn over " +
+  ctx->services.log(ATMO_LOG_DEBUG, pass_log_prefix(ctx, view) + "fog: " + std::to_string(st.lights) + " lights, " +
+                                        std::to_string(st.glows_drawn) + " glows drawn over " +
                                         std::to_string(static_cast<long long>(st.covered_pixels)) + " pixels");
   return ATMO_SUCCESS;
 }

@@ -1,10 +1,11 @@
 // passes.cpp — render_pass: checks the order of calls and the host's depth
 // texture, prepares what every pass needs and dispatches to the pass.
+#include "abi/entry/passes.h"
+
 #include <string>
 
 #include "abi/entry/call.h"
 #include "abi/entry/entry_points.h"
-#include "abi/entry/passes.h"
 #include "abi/night_sky_inputs.h"
 #include "abi/pass_inputs.h"
 #include "abi/scene_inputs.h"
