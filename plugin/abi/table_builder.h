@@ -1,5 +1,5 @@
 // table_builder.h — the CPU lookup tables of a context (transmittance and
-// multiple scattering, ~0.2 s to build) and the worker thread that rebuilds
+// multiple scattering, ~0.4 s of CPU to build: docs/ABI.md) and the worker thread that rebuilds
 // them off the render thread when the air changes.
 //
 // Threads: the host's thread (the one calling the plugin) asks for tables,

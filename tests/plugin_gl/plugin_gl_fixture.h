@@ -45,7 +45,7 @@ struct Fixture {
   // A new context and view on the same GL context and plugin. A new context
   // builds its lookup tables on first use, synchronously, so it draws the air it
   // is given in its very first frame; a context whose air changes keeps drawing
-  // the old air until the new tables come from its worker thread (~0.2 s). Tests
+  // the old air until the new tables come from its worker thread (~0.4 s of CPU, longer on a loaded machine). Tests
   // that compare a frame with the air they just set therefore use a new context.
   void fresh_context() {
     view.reset();

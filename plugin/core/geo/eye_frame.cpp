@@ -15,8 +15,9 @@ bool make_eye_frame(const CameraInput& in, EyeFrame* out, std::string* error) {
   }
   f.ecef_from_enu = ecef_from_enu(f.eye.latitude_deg, f.eye.longitude_deg);
 
-  // Rotation part of the view matrix, orthonormalised (hosts may carry scale or
-  // float round-off); the translation is ignored because the eye is given.
+  // Rotation part of the view matrix, orthonormalised against float round-off
+  // (the ABI refuses scale, shear and mirrors: abi/validation.cpp); the
+  // translation is ignored because the eye is given.
   glm::dmat3 view_rot(in.view_from_world);
   glm::dvec3 r0 = glm::dvec3(view_rot[0][0], view_rot[1][0], view_rot[2][0]);  // view x in world
   glm::dvec3 r1 = glm::dvec3(view_rot[0][1], view_rot[1][1], view_rot[2][1]);  // view y in world
