@@ -2,7 +2,8 @@
 # The whole test suite on a fresh Debian 12 machine: install what is missing,
 # build, run every test (GL tests run headless on Mesa llvmpipe through EGL and
 # fail, never skip, without a context), then the same suite built with
-# AddressSanitizer + UndefinedBehaviorSanitizer.
+# AddressSanitizer + UndefinedBehaviorSanitizer, then the libFuzzer targets
+# (fuzz/, built by clang; each fuzzes for ATMO_FUZZ_SECONDS).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/install-deps.sh
@@ -27,3 +28,9 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:inte
 export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 ctest --test-dir build-asan -j"$jobs" --output-on-failure
+
+echo "[atmo] libFuzzer targets (clang, ASan + UBSan; docs/TESTING.md)"
+cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  -DATMO_FUZZ=ON -DATMO_BUILD_TESTS=OFF -DATMO_BUILD_SAMPLES=OFF -DATMO_BUILD_BENCH=OFF
+cmake --build build-fuzz -j"$jobs" --target atmo_fuzz_targets
+ctest --test-dir build-fuzz -L fuzz -j"$jobs" --output-on-failure
