@@ -82,14 +82,16 @@ void init() {
   AtmoNegotiateInfo host{ATMO_HEADER(ATMO_TYPE_NEGOTIATE_INFO, AtmoNegotiateInfo), 1, 1, "atmo-fuzz", 1, 0};
   g_api.header = ATMO_HEADER(ATMO_TYPE_PLUGIN_API, AtmoPluginApi);
   FUZZ_CHECK(atmo_negotiate(&host, &g_api) == ATMO_SUCCESS, "negotiate");
-  AtmoHostServices services{ATMO_HEADER(ATMO_TYPE_HOST_SERVICES, AtmoHostServices)};
+  AtmoHostServices services{};
+  services.header = ATMO_HEADER(ATMO_TYPE_HOST_SERVICES, AtmoHostServices);
   services.log = log_line;
   services.allocate = allocate;
   services.deallocate = deallocate;
   services.file_open = file_open;
   services.file_read = file_read;
   services.file_close = file_close;
-  AtmoContextCreateInfo info{ATMO_HEADER(ATMO_TYPE_CONTEXT_CREATE_INFO, AtmoContextCreateInfo)};
+  AtmoContextCreateInfo info{};
+  info.header = ATMO_HEADER(ATMO_TYPE_CONTEXT_CREATE_INFO, AtmoContextCreateInfo);
   info.services = &services;
   info.asset_root = "/fuzz/assets";
   info.application_name = "atmo-fuzz";
@@ -160,9 +162,11 @@ std::vector<unsigned char> read_array(Reader& in, uint32_t* count, uint32_t stri
 }
 
 void reset_state(AtmoView* view) {
-  AtmoAtmosphereState air{ATMO_HEADER(ATMO_TYPE_ATMOSPHERE_STATE, AtmoAtmosphereState)};
+  AtmoAtmosphereState air{};
+  air.header = ATMO_HEADER(ATMO_TYPE_ATMOSPHERE_STATE, AtmoAtmosphereState);
   check_result(g_api.set_atmosphere(g_ctx, &air), "set_atmosphere");
-  AtmoCloudsState clouds{ATMO_HEADER(ATMO_TYPE_CLOUDS_STATE, AtmoCloudsState)};
+  AtmoCloudsState clouds{};
+  clouds.header = ATMO_HEADER(ATMO_TYPE_CLOUDS_STATE, AtmoCloudsState);
   check_result(g_api.set_clouds(g_ctx, &clouds), "set_clouds");
   check_result(g_api.set_fog(g_ctx, nullptr), "set_fog");
   check_result(g_api.set_lights(g_ctx, nullptr), "set_lights");

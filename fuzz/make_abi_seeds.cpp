@@ -31,8 +31,15 @@ struct Seed {
   }
 };
 
+AtmoLighting lighting() {
+  AtmoLighting l{};
+  l.header = ATMO_HEADER(ATMO_TYPE_LIGHTING, AtmoLighting);
+  return l;
+}
+
 AtmoFrameState frame() {
-  AtmoFrameState f{ATMO_HEADER(ATMO_TYPE_FRAME_STATE, AtmoFrameState)};
+  AtmoFrameState f{};
+  f.header = ATMO_HEADER(ATMO_TYPE_FRAME_STATE, AtmoFrameState);
   f.host_frame_number = 1;
   f.utc_posix_s = 1781000000.0;  // 2026-06-09, daytime in Europe
   f.dut1_s = 0.1;
@@ -41,7 +48,8 @@ AtmoFrameState frame() {
 
 // A 60-degree perspective at 47 N 8 E, 500 m up, looking north in an ENU world.
 AtmoViewState view(double height_m) {
-  AtmoViewState v{ATMO_HEADER(ATMO_TYPE_VIEW_STATE, AtmoViewState)};
+  AtmoViewState v{};
+  v.header = ATMO_HEADER(ATMO_TYPE_VIEW_STATE, AtmoViewState);
   v.eye_kind = ATMO_POSITION_GEODETIC;
   v.world_frame = ATMO_WORLD_ENU;
   v.eye_geodetic[0] = 47.0;
@@ -62,7 +70,8 @@ AtmoViewState view(double height_m) {
 }
 
 AtmoCloudLayer layer(uint32_t type) {
-  AtmoCloudLayer l{ATMO_HEADER(ATMO_TYPE_CLOUD_LAYER, AtmoCloudLayer)};
+  AtmoCloudLayer l{};
+  l.header = ATMO_HEADER(ATMO_TYPE_CLOUD_LAYER, AtmoCloudLayer);
   l.type = type;
   l.coverage_oktas = 3;
   l.base_m = 1000.0;
@@ -87,7 +96,11 @@ int main(int argc, char** argv) {
   using namespace atmo_fuzz;
   {  // the air, a frame, a view and the lighting
     Seed s;
-    AtmoAtmosphereState a{ATMO_HEADER(ATMO_TYPE_ATMOSPHERE_STATE, AtmoAtmosphereState), 20000.0, 1500.0, 0.2};
+    AtmoAtmosphereState a{};
+    a.header = ATMO_HEADER(ATMO_TYPE_ATMOSPHERE_STATE, AtmoAtmosphereState);
+    a.visibility_m = 20000.0;
+    a.aerosol_scale_height_m = 1500.0;
+    a.ground_albedo = 0.2;
     s.head(kSetAtmosphere);
     s.add(a);
     s.head(kSetFrame);
@@ -95,7 +108,7 @@ int main(int argc, char** argv) {
     s.head(kSetView);
     s.add(view(500.0));
     s.head(kGetLighting);
-    s.add(AtmoLighting{ATMO_HEADER(ATMO_TYPE_LIGHTING, AtmoLighting)});
+    s.add(lighting());
     s.write(dir + "/air_frame_view_lighting");
   }
   {  // a view from orbit, ECEF, and the 104-byte lighting of the first layout
@@ -111,17 +124,19 @@ int main(int argc, char** argv) {
     s.head(kSetView, 0, 0x0b);  // a chain of 3 that cycles
     s.add(v);
     s.head(kGetLighting, kSizeFromInput, 0, 104);
-    s.add(AtmoLighting{ATMO_HEADER(ATMO_TYPE_LIGHTING, AtmoLighting)});
+    s.add(lighting());
     s.write(dir + "/orbit_ecef_old_lighting");
   }
   {  // fog and two lights (one a cone), with a longer light stride
     Seed s;
-    AtmoFogState f{ATMO_HEADER(ATMO_TYPE_FOG_STATE, AtmoFogState)};
+    AtmoFogState f{};
+  f.header = ATMO_HEADER(ATMO_TYPE_FOG_STATE, AtmoFogState);
     f.visibility_m = 300.0;
     f.top_height_m = 80.0;
     s.head(kSetFog);
     s.add(f);
-    AtmoLightsState l{ATMO_HEADER(ATMO_TYPE_LIGHTS_STATE, AtmoLightsState)};
+    AtmoLightsState l{};
+  l.header = ATMO_HEADER(ATMO_TYPE_LIGHTS_STATE, AtmoLightsState);
     l.world_frame = ATMO_WORLD_ENU;
     l.world_origin_geodetic[0] = 47.0;
     l.world_origin_geodetic[1] = 8.0;
@@ -150,7 +165,8 @@ int main(int argc, char** argv) {
   }
   {  // clouds: a small cumulus layer and a VDB file layer
     Seed s;
-    AtmoCloudsState c{ATMO_HEADER(ATMO_TYPE_CLOUDS_STATE, AtmoCloudsState)};
+    AtmoCloudsState c{};
+  c.header = ATMO_HEADER(ATMO_TYPE_CLOUDS_STATE, AtmoCloudsState);
     c.origin_geodetic[0] = 47.0;
     c.origin_geodetic[1] = 8.0;
     s.head(kSetClouds, 0, 0, 0, 2, sizeof(AtmoCloudLayer));
