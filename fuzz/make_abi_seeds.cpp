@@ -4,7 +4,6 @@
 // mistyped structs, chains and arrays. Run once by hand:
 //   build-fuzz/fuzz/fuzz_make_abi_seeds fuzz/corpus/abi
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <string>
 
@@ -35,38 +34,6 @@ AtmoLighting lighting() {
   AtmoLighting l{};
   l.header = ATMO_HEADER(ATMO_TYPE_LIGHTING, AtmoLighting);
   return l;
-}
-
-AtmoFrameState frame() {
-  AtmoFrameState f{};
-  f.header = ATMO_HEADER(ATMO_TYPE_FRAME_STATE, AtmoFrameState);
-  f.host_frame_number = 1;
-  f.utc_posix_s = 1781000000.0;  // 2026-06-09, daytime in Europe
-  f.dut1_s = 0.1;
-  return f;
-}
-
-// A 60-degree perspective at 47 N 8 E, 500 m up, looking north in an ENU world.
-AtmoViewState view(double height_m) {
-  AtmoViewState v{};
-  v.header = ATMO_HEADER(ATMO_TYPE_VIEW_STATE, AtmoViewState);
-  v.eye_kind = ATMO_POSITION_GEODETIC;
-  v.world_frame = ATMO_WORLD_ENU;
-  v.eye_geodetic[0] = 47.0;
-  v.eye_geodetic[1] = 8.0;
-  v.eye_geodetic[2] = height_m;
-  v.world_origin_geodetic[0] = 47.0;
-  v.world_origin_geodetic[1] = 8.0;
-  // view_from_world: camera x = east, y = up, -z = north.
-  const double view_from_world[16] = {1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1};
-  std::memcpy(v.view_from_world, view_from_world, sizeof(view_from_world));
-  const double f = 1.7320508, n = 0.5, far = 100000.0;
-  const double clip_from_view[16] = {f / 1.5, 0, 0, 0, 0, f, 0, 0, 0, 0, (far + n) / (n - far), -1,
-                                     0, 0, 2 * far * n / (n - far), 0};
-  std::memcpy(v.clip_from_view, clip_from_view, sizeof(clip_from_view));
-  v.viewport[2] = 320;
-  v.viewport[3] = 240;
-  return v;
 }
 
 AtmoCloudLayer layer(uint32_t type) {
@@ -104,23 +71,23 @@ int main(int argc, char** argv) {
     s.head(kSetAtmosphere);
     s.add(a);
     s.head(kSetFrame);
-    s.add(frame());
+    s.add(typical_frame());
     s.head(kSetView);
-    s.add(view(500.0));
+    s.add(typical_view(500.0));
     s.head(kGetLighting);
     s.add(lighting());
     s.write(dir + "/air_frame_view_lighting");
   }
   {  // a view from orbit, ECEF, and the 104-byte lighting of the first layout
     Seed s;
-    AtmoViewState v = view(400000.0);
+    AtmoViewState v = typical_view(400000.0);
     v.eye_kind = ATMO_POSITION_ECEF;
     v.world_frame = ATMO_WORLD_ECEF;
     v.eye_ecef_m[0] = 6.778e6;
     v.depth_convention = ATMO_DEPTH_LOGARITHMIC;
     v.far_plane_m = 1e7;
     s.head(kSetFrame);
-    s.add(frame());
+    s.add(typical_frame());
     s.head(kSetView, 0, 0x0b);  // a chain of 3 that cycles
     s.add(v);
     s.head(kGetLighting, kSizeFromInput, 0, 104);
@@ -158,9 +125,9 @@ int main(int argc, char** argv) {
       s.bytes.append(stride - sizeof(AtmoLightPoint), '\0');
     }
     s.head(kSetFrame);
-    s.add(frame());
+    s.add(typical_frame());
     s.head(kSetView);
-    s.add(view(2.0));
+    s.add(typical_view(2.0));
     s.write(dir + "/fog_two_lights");
   }
   {  // clouds: a small cumulus layer and a VDB file layer
@@ -178,9 +145,9 @@ int main(int argc, char** argv) {
   {  // undersized and mistyped structs, NULL
     Seed s;
     s.head(kSetFrame, kSizeFromInput, 0, 16);
-    s.add(frame());
+    s.add(typical_frame());
     s.head(kSetView, kWrongType);
-    s.add(view(500.0));
+    s.add(typical_view(500.0));
     s.head(kSetFog, kNullStruct);
     s.add(AtmoFogState{});
     s.head(kSetAtmosphere, kSizeFromInput, 0, 24);
