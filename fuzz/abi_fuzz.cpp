@@ -191,32 +191,29 @@ void reset_state(AtmoView* view) {
   FUZZ_CHECK(g_api.create_view(g_ctx, &info, view) == ATMO_SUCCESS, "create_view");
 }
 
+// A call whose struct holds no pointer: the bytes as they are, NULL on kNullStruct.
+template <typename T, typename Call>
+void plain_call(Reader& in, const CallHead& head, AtmoStructType type, const char* function, Call&& api_call) {
+  HostStruct<T> s;
+  read_struct(in, head, type, &s);
+  finish(&s);
+  check_result(api_call((head.flags & atmo_fuzz::kNullStruct) ? nullptr : s.get()), function);
+}
+
 void call(Reader& in, AtmoView view) {
   CallHead head;
   in.read(&head, sizeof(head));
   const bool null = head.flags & atmo_fuzz::kNullStruct;
   switch (head.op % atmo_fuzz::kOpCount) {
-    case atmo_fuzz::kSetAtmosphere: {
-      HostStruct<AtmoAtmosphereState> s;
-      read_struct(in, head, ATMO_TYPE_ATMOSPHERE_STATE, &s);
-      finish(&s);
-      check_result(g_api.set_atmosphere(g_ctx, null ? nullptr : s.get()), "set_atmosphere");
-      break;
-    }
-    case atmo_fuzz::kSetFrame: {
-      HostStruct<AtmoFrameState> s;
-      read_struct(in, head, ATMO_TYPE_FRAME_STATE, &s);
-      finish(&s);
-      check_result(g_api.set_frame(g_ctx, null ? nullptr : s.get()), "set_frame");
-      break;
-    }
-    case atmo_fuzz::kSetView: {
-      HostStruct<AtmoViewState> s;
-      read_struct(in, head, ATMO_TYPE_VIEW_STATE, &s);
-      finish(&s);
-      check_result(g_api.set_view(view, null ? nullptr : s.get()), "set_view");
-      break;
-    }
+    case atmo_fuzz::kSetAtmosphere:
+      return plain_call<AtmoAtmosphereState>(in, head, ATMO_TYPE_ATMOSPHERE_STATE, "set_atmosphere",
+                                             [](const AtmoAtmosphereState* p) { return g_api.set_atmosphere(g_ctx, p); });
+    case atmo_fuzz::kSetFrame:
+      return plain_call<AtmoFrameState>(in, head, ATMO_TYPE_FRAME_STATE, "set_frame",
+                                        [](const AtmoFrameState* p) { return g_api.set_frame(g_ctx, p); });
+    case atmo_fuzz::kSetView:
+      return plain_call<AtmoViewState>(in, head, ATMO_TYPE_VIEW_STATE, "set_view",
+                                       [view](const AtmoViewState* p) { return g_api.set_view(view, p); });
     case atmo_fuzz::kSetFog: {
       HostStruct<AtmoFogState> s;
       read_struct(in, head, ATMO_TYPE_FOG_STATE, &s);
@@ -263,8 +260,8 @@ void call(Reader& in, AtmoView view) {
         // it never passes: its area_size_m, the last field validated, is made invalid, and every check
         // before it still runs. tests/clouds cover the generator.
         constexpr size_t type_at = offsetof(AtmoCloudLayer, type), area_at = offsetof(AtmoCloudLayer, area_size_m);
-        uint32_t type;
-        std::memcpy(&type, p + type_at, sizeof(type));
+        uint32_t type = ATMO_CLOUD_VDB_FILE;
+        if (type_at + sizeof(type) <= stride) std::memcpy(&type, p + type_at, sizeof(type));
         if (type < ATMO_CLOUD_VDB_FILE && area_at + sizeof(double) <= stride) {
           const double invalid_area_m = 1e9;
           std::memcpy(p + area_at, &invalid_area_m, sizeof(invalid_area_m));

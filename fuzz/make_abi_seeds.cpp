@@ -8,6 +8,7 @@
 #include <string>
 
 #include "abi_input.h"
+#include "seed_writer.h"
 
 namespace {
 
@@ -24,10 +25,7 @@ struct Seed {
   void add(const T& value) {
     bytes.append(reinterpret_cast<const char*>(&value), sizeof(T));
   }
-  void write(const std::string& path) const {
-    std::ofstream(path, std::ios::binary) << bytes;
-    std::printf("%s: %zu bytes\n", path.c_str(), bytes.size());
-  }
+  void write(const std::string& path) const { atmo_fuzz::write_seed(path, bytes); }
 };
 
 AtmoLighting lighting() {
@@ -55,11 +53,7 @@ AtmoCloudLayer layer(uint32_t type) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: %s OUT_DIR\n", argv[0]);
-    return 2;
-  }
-  const std::string dir = argv[1];
+  const std::string dir = atmo_fuzz::seed_dir(argc, argv);
   using namespace atmo_fuzz;
   {  // the air, a frame, a view and the lighting
     Seed s;

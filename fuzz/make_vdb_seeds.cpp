@@ -13,14 +13,10 @@
 #include <string>
 #include <vector>
 
+#include "seed_writer.h"
 #include "vdb/vdb_io.h"
 
 namespace {
-
-void write(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-  std::printf("%s: %zu bytes\n", path.c_str(), bytes.size());
-}
 
 openvdb::GridBase::Ptr blob(const std::string& name, int radius, double voxel_m) {
   openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.0f);
@@ -38,21 +34,19 @@ openvdb::GridBase::Ptr blob(const std::string& name, int radius, double voxel_m)
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: %s OUT_DIR\n", argv[0]);
-    return 2;
-  }
-  const std::string dir = argv[1];
+  const std::string dir = atmo_fuzz::seed_dir(argc, argv);
   openvdb::initialize();
   const openvdb::GridPtrVec one{blob("density", 2, 10.0)};
   const openvdb::GridPtrVec two{blob("density", 1, 5.0), blob("temperature", 1, 5.0)};
-  for (const auto& [name, grids] : {std::pair{std::string("one_grid"), one}, std::pair{std::string("two_grids"), two}}) {
+  {  // one grid as io::Stream writes it: no grid offsets
     std::ostringstream os(std::ios::binary);
-    openvdb::io::Stream(os).write(grids);
-    write(dir + "/" + name + "_stream.vdb", os.str());
-    const std::string p = dir + "/" + name + "_file.vdb";
+    openvdb::io::Stream(os).write(one);
+    atmo_fuzz::write_seed(dir + "/one_grid_stream.vdb", os.str());
+  }
+  {  // two grids as io::File writes them: with offsets
+    const std::string p = dir + "/two_grids_file.vdb";
     openvdb::io::File file(p);
-    file.write(grids);
+    file.write(two);
     file.close();
     std::printf("%s\n", p.c_str());
   }
@@ -66,6 +60,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", error.c_str());
     return 1;
   }
-  write(dir + "/atmo_writer_two_volumes.vdb", bytes);
+  atmo_fuzz::write_seed(dir + "/atmo_writer_two_volumes.vdb", bytes);
   return 0;
 }
