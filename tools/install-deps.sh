@@ -13,6 +13,7 @@ PACKAGES=(
   libgeographiclib-dev liberfa-dev libnova-dev
   libvtk9-dev libopenvdb-dev libboost-iostreams-dev
   openimageio-tools binutils
+  clang libclang-rt-14-dev
   colord-data
   kstars-data
 )

@@ -2,7 +2,8 @@
 # The whole test suite on a fresh Debian 12 machine: install what is missing,
 # build, run every test (GL tests run headless on Mesa llvmpipe through EGL and
 # fail, never skip, without a context), then the same suite built with
-# AddressSanitizer + UndefinedBehaviorSanitizer.
+# AddressSanitizer + UndefinedBehaviorSanitizer, then the libFuzzer targets
+# (fuzz/, built by clang; each fuzzes for ATMO_FUZZ_SECONDS).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/install-deps.sh
@@ -29,3 +30,10 @@ export LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 ctest --test-dir build-asan -j"$jobs" --output-on-failure --output-junit "$PWD/build-asan/ctest-junit.xml"
 python3 tools/check_no_skips.py build-asan/ctest-junit.xml
+
+echo "[atmo] libFuzzer targets (clang, ASan + UBSan; docs/TESTING.md)"
+cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  -DATMO_FUZZ=ON -DATMO_BUILD_TESTS=OFF -DATMO_BUILD_SAMPLES=OFF -DATMO_BUILD_BENCH=OFF
+cmake --build build-fuzz -j"$jobs" --target atmo_fuzz_targets
+ctest --test-dir build-fuzz -L fuzz -j"$jobs" --output-on-failure --output-junit "$PWD/build-fuzz/ctest-junit.xml"
+python3 tools/check_no_skips.py build-fuzz/ctest-junit.xml

@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -600,6 +601,33 @@ TEST_F(VdbTest, UnsupportedTransformsAreErrors) {
       const LoadResult r = atmo::vdb::load_vdb_from_memory(bytes, "xf.vdb", LoadOptions());
       EXPECT_FALSE(r.ok);
       EXPECT_TRUE(contains(r.error, c.expect)) << r.error;
+    }
+  }
+}
+
+// A damaged length in a grid's metadata (found by fuzz/vdb_fuzz.cpp): OpenVDB's
+// MetaMap::readMeta allocates and zeroes whatever a length says before reading
+// it (a 70 KB file took 30 s and 1 GB). The reader checks every metadata
+// length against the bytes left first, and says which length is wrong.
+TEST_F(VdbTest, DamagedMetadataLengthIsAnErrorBeforeAnyAllocation) {
+  openvdb::FloatGrid::Ptr g = float_grid("density");
+  add_blob(*g, openvdb::Coord(0), 2, 1.0f);
+  g->insertMeta("atmo_note_key", openvdb::StringMetadata("atmo_note_value"));
+  for (const std::string& good : encodings({g})) {
+    ASSERT_TRUE(atmo::vdb::load_vdb_from_memory(good, "m.vdb", LoadOptions()).ok);
+    // The 4-byte length before the key (a string) and before the value (the metadata's size).
+    for (const char* field : {"atmo_note_key", "atmo_note_value"}) {
+      const size_t at = good.find(field);
+      ASSERT_NE(at, std::string::npos);
+      ASSERT_GE(at, 4u);
+      std::string bad = good;
+      const uint32_t huge = 0x7ffffff0u;
+      std::memcpy(&bad[at - 4], &huge, sizeof(huge));
+      const LoadResult r = atmo::vdb::load_vdb_from_memory(bad, "m.vdb", LoadOptions());
+      EXPECT_FALSE(r.ok) << field;
+      EXPECT_TRUE(contains(r.error, "m.vdb") && contains(r.error, "metadata") &&
+                  contains(r.error, "2147483632-byte") && contains(r.error, "runs past the end"))
+          << field << ": " << r.error;
     }
   }
 }
