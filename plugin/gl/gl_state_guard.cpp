@@ -12,7 +12,7 @@ void set_enabled(GLenum cap, GLboolean on) {
   if (on) glEnable(cap); else glDisable(cap);
 }
 // Saves a capability and switches it off (the baseline).
-GLboolean take_disabled(GLenum cap) {
+[[maybe_unused]] GLboolean take_disabled(GLenum cap) {  // unused in a test fault build
   const GLboolean on = glIsEnabled(cap);
   glDisable(cap);
   return on;
@@ -32,7 +32,7 @@ constexpr GLint kPixelStoreBaseline[] = {4, 0, 0, 0, 0, 0, GL_FALSE, GL_FALSE};
 thread_local int t_guard_depth = 0;
 
 // Raises `e` again with a call that changes no state; false for flags no call can raise safely.
-bool raise_gl_error(GLenum e) {
+[[maybe_unused]] bool raise_gl_error(GLenum e) {  // unused in a test fault build
   switch (e) {
     case GL_INVALID_ENUM: glEnable(GL_NONE); return true;
     case GL_INVALID_VALUE: glViewport(0, 0, -1, -1); return true;
