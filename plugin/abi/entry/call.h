@@ -101,4 +101,20 @@ void write_back(T* out, T value) {
   std::memcpy(static_cast<void*>(out), &value, n);
 }
 
+// A view's getter: view_call on the host's output struct, the order check
+// (gl_init when `needs_gl`, set_frame, set_view), then body(ctx, view, value)
+// fills the output, which is written back unless the body failed (an error
+// leaves the host's struct as it was).
+template <typename T, typename Body>
+AtmoResult view_output_call(AtmoView view_handle, const char* function, T* out, AtmoStructType type, const char* name,
+                            bool needs_gl, Body&& body) {
+  return view_call(view_handle, function, out, type, name,
+                   [&](AtmoContext_T* ctx, AtmoView_T* view, T& value) -> AtmoResult {
+                     if (AtmoResult r = require_frame_and_view(ctx, *view, function, needs_gl)) return r;
+                     const AtmoResult result = body(ctx, view, value);
+                     if (result >= 0) write_back(out, value);
+                     return result;
+                   });
+}
+
 }  // namespace atmo::abi

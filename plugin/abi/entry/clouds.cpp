@@ -64,10 +64,9 @@ AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& 
 }
 
 AtmoResult get_cloud_shadows(AtmoView view_handle, AtmoCloudShadows* out) {
-  return view_call(
-      view_handle, "get_cloud_shadows", out, ATMO_TYPE_CLOUD_SHADOWS, "AtmoCloudShadows",
+  return view_output_call(
+      view_handle, "get_cloud_shadows", out, ATMO_TYPE_CLOUD_SHADOWS, "AtmoCloudShadows", true,
       [&](AtmoContext_T* ctx, AtmoView_T* view, AtmoCloudShadows& m) -> AtmoResult {
-        if (AtmoResult r = require_frame_and_view(ctx, *view, "get_cloud_shadows", true)) return r;
         AtmoResult result = ATMO_STATUS_NOTHING_TO_DRAW;
         ContextClouds& c = ctx->clouds;
         if (!c.empty()) {
@@ -100,7 +99,6 @@ AtmoResult get_cloud_shadows(AtmoView view_handle, AtmoCloudShadows* out) {
           m.texture = 0;
           m.size = 0;
         }
-        write_back(out, m);
         return result;
       });
 }

@@ -89,10 +89,9 @@ AtmoResult set_lights(AtmoContext context, const AtmoLightsState* state) {
 }
 
 AtmoResult get_fog_lighting(AtmoView view_handle, AtmoFogLighting* out) {
-  return view_call(
-      view_handle, "get_fog_lighting", out, ATMO_TYPE_FOG_LIGHTING, "AtmoFogLighting",
+  return view_output_call(
+      view_handle, "get_fog_lighting", out, ATMO_TYPE_FOG_LIGHTING, "AtmoFogLighting", true,
       [&](AtmoContext_T* ctx, AtmoView_T* view, AtmoFogLighting& f) -> AtmoResult {
-        if (AtmoResult r = require_frame_and_view(ctx, *view, "get_fog_lighting", true)) return r;
         AtmoResult result = ATMO_STATUS_NOTHING_TO_DRAW;
         std::memset(reinterpret_cast<char*>(&f) + sizeof(f.header), 0, sizeof(f) - sizeof(f.header));
         if (ctx->fog.enabled() && !ctx->lights.lights.empty()) {
@@ -120,7 +119,6 @@ AtmoResult get_fog_lighting(AtmoView view_handle, AtmoFogLighting* out) {
           for (int i = 0; i < 3; ++i) f.up_world[i] = up[i];
           result = ATMO_SUCCESS;
         }
-        write_back(out, f);
         return result;
       });
 }

@@ -52,10 +52,9 @@ AtmoResult set_view(AtmoView view_handle, const AtmoViewState* state) {
 }
 
 AtmoResult get_lighting(AtmoView view_handle, AtmoLighting* out) {
-  return view_call(
-      view_handle, "get_lighting", out, ATMO_TYPE_LIGHTING, "AtmoLighting",
+  return view_output_call(
+      view_handle, "get_lighting", out, ATMO_TYPE_LIGHTING, "AtmoLighting", false,
       [&](AtmoContext_T* ctx, AtmoView_T* view, AtmoLighting& l) -> AtmoResult {
-        if (AtmoResult r = require_frame_and_view(ctx, *view, "get_lighting", false)) return r;
         core::Scene scene = prepare_scene(ctx, *view);
         const glm::dvec3& enu = scene.sun_direction_enu;
         for (int i = 0; i < 3; ++i) {
@@ -95,7 +94,6 @@ AtmoResult get_lighting(AtmoView view_handle, AtmoLighting* out) {
           l.aerial_range_m = aerial_volume_range_m(scene, view->state, view->eye.view_from_clip);
           l.aerial_slices = static_cast<uint32_t>(ctx->renderer.table_sizes().aerial_slices);
         }
-        write_back(out, l);
         return ATMO_SUCCESS;
       });
 }
