@@ -246,10 +246,176 @@ Descriptor read_descriptor(Input& in, uint32_t version) {
   return d;
 }
 
+// OpenVDB 10's bloscFromStream and unzipFromStream read a chunk stored
+// uncompressed (a size <= 0) straight into the node's value buffer and only
+// then compare its size with the buffer's: a damaged size overflows the heap
+// (found by fuzz/vdb_fuzz.cpp, fuzz/findings/). A compressed chunk's size is
+// allocated as it stands. So before OpenVDB reads a level of a tree, this
+// walks the same bytes in the same order (InternalNode::readTopology,
+// LeafNode::readBuffers, io::readCompressedValues and io::readData of the
+// installed headers), checks each chunk's size against the values its node
+// holds and against the bytes left, then rewinds for OpenVDB.
+class ChunkCheck {
+ public:
+  ChunkCheck(Input& in, std::string grid) : in_(in), grid_(std::move(grid)) {}
+
+  // Before NodeT::readTopology (a child of the root).
+  template <typename NodeT>
+  void topology(bool from_half) {
+    rewinding([&] { node_topology<NodeT>(from_half); });
+  }
+  // Before Tree::readBuffers: every leaf's buffers, in the stream's order.
+  template <typename LeafT>
+  void buffers(size_t leaf_count, bool from_half) {
+    rewinding([&] {
+      for (size_t i = 0; i < leaf_count; ++i) leaf_buffers<LeafT>(from_half);
+    });
+  }
+
+ private:
+  uint32_t version() const { return openvdb::io::getFormatVersion(in_.is); }
+
+  template <typename F>
+  void rewinding(F&& walk) {
+    const std::streampos start = in_.is.tellg();
+    walk();
+    in_.is.seekg(start);
+  }
+
+  std::string at(size_t byte) const { return "at byte " + num(byte) + " of grid " + quoted(grid_); }
+
+  void skip(uint64_t bytes, const char* what) {
+    if (bytes > in_.buf.remaining()) {
+      throw ReadError("truncated or corrupt: " + std::string(what) + " of " + num(bytes) + " bytes " +
+                      at(in_.buf.position()) + " runs past the end of the data (" + num(in_.buf.size()) +
+                      " bytes)");
+    }
+    in_.is.seekg(static_cast<std::streamoff>(bytes), std::ios_base::cur);
+  }
+
+  template <typename MaskT>
+  MaskT mask() {
+    MaskT m;
+    m.load(in_.is);  // a short read throws (Input's exceptions)
+    return m;
+  }
+
+  // io::readData: count values of value_bytes each, in one chunk.
+  void data(uint64_t count, size_t value_bytes, uint32_t compression) {
+    const uint64_t expected = count * value_bytes;
+    if (!(compression & (openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ZIP))) {
+      skip(expected, "a node's values");
+      return;
+    }
+    const size_t chunk = in_.buf.position();
+    int64_t size = 0;
+    read_pod(in_.is, &size);
+    if (size > 0) {
+      skip(static_cast<uint64_t>(size), "a compressed chunk");
+      return;
+    }
+    const uint64_t raw = uint64_t{0} - static_cast<uint64_t>(size);  // no overflow at INT64_MIN
+    if (raw != expected) {
+      throw ReadError("corrupt: an uncompressed chunk " + at(chunk) + " says " + num(raw) +
+                      " bytes where its node holds " + num(expected));
+    }
+    skip(raw, "an uncompressed chunk");
+  }
+
+  // io::readCompressedValues(is, buf, count, value_mask, from_half).
+  template <typename ValueT, typename MaskT>
+  void compressed_values(uint64_t count, const MaskT& value_mask, bool from_half) {
+    namespace io = openvdb::io;
+    const uint32_t compression = io::getDataCompression(in_.is);
+    const bool node_masks = version() >= openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION;
+    int8_t meta = io::NO_MASK_AND_ALL_VALS;
+    if (node_masks) read_pod(in_.is, &meta);
+    const bool inactive = meta == io::NO_MASK_AND_ONE_INACTIVE_VAL || meta == io::MASK_AND_ONE_INACTIVE_VAL ||
+                          meta == io::MASK_AND_TWO_INACTIVE_VALS;
+    if (inactive) skip(sizeof(ValueT), "an inactive value");
+    if (meta == io::MASK_AND_TWO_INACTIVE_VALS) skip(sizeof(ValueT), "an inactive value");
+    if (meta == io::MASK_AND_NO_INACTIVE_VALS || meta == io::MASK_AND_ONE_INACTIVE_VAL ||
+        meta == io::MASK_AND_TWO_INACTIVE_VALS) {
+      skip(MaskT::memUsage(), "a selection mask");
+    }
+    if ((compression & io::COMPRESS_ACTIVE_MASK) && meta != io::NO_MASK_AND_ALL_VALS && node_masks) {
+      count = value_mask.countOn();
+    }
+    using Half = io::RealToHalf<ValueT>;
+    if (from_half && Half::isReal) {
+      if (count >= 1) data(count, sizeof(typename Half::HalfT), compression);  // HalfReader skips 0
+    } else {
+      data(count, sizeof(ValueT), compression);
+    }
+  }
+
+  template <typename NodeT>
+  void node_topology(bool from_half) {
+    using MaskT = typename NodeT::NodeMaskType;
+    if constexpr (NodeT::LEVEL == 0) {
+      skip(MaskT::memUsage(), "a leaf's value mask");
+    } else {
+      using ChildT = typename NodeT::ChildNodeType;
+      using ValueT = typename NodeT::ValueType;
+      const MaskT children = mask<MaskT>();
+      const MaskT values = mask<MaskT>();
+      if (version() < openvdb::OPENVDB_FILE_VERSION_INTERNALNODE_COMPRESSION) {
+        for (openvdb::Index i = 0; i < NodeT::NUM_VALUES; ++i) {
+          if (children.isOn(i)) {
+            node_topology<ChildT>(false);
+          } else {
+            skip(sizeof(ValueT), "a tile value");
+          }
+        }
+        return;
+      }
+      const bool old = version() < openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION;
+      compressed_values<ValueT>(old ? children.countOff() : NodeT::NUM_VALUES, values, from_half);
+      for (auto it = children.beginOn(); it; ++it) node_topology<ChildT>(from_half);
+    }
+  }
+
+  template <typename LeafT>
+  void leaf_buffers(bool from_half) {
+    using MaskT = typename LeafT::NodeMaskType;
+    using ValueT = typename LeafT::ValueType;
+    constexpr size_t kOrigin = 3 * sizeof(int32_t);
+    if constexpr (std::is_same_v<ValueT, openvdb::ValueMask>) {
+      skip(MaskT::memUsage() + kOrigin, "a mask leaf");
+    } else if constexpr (std::is_same_v<ValueT, bool>) {
+      skip(MaskT::memUsage() + kOrigin, "a bool leaf's mask and origin");
+      if (version() >= openvdb::OPENVDB_FILE_VERSION_BOOL_LEAF_OPTIMIZATION) {
+        skip(MaskT::memUsage(), "a bool leaf's values");
+      } else {
+        int8_t count = 0;
+        read_pod(in_.is, &count);
+        data(LeafT::SIZE, sizeof(bool), openvdb::io::COMPRESS_ZIP);  // readData(..., isCompressed=true)
+        for (int i = 1; i < count; ++i) data(LeafT::SIZE, sizeof(bool), openvdb::io::COMPRESS_ZIP);
+      }
+    } else {
+      const MaskT values = mask<MaskT>();
+      int8_t count = 1;
+      if (version() < openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION) {
+        skip(kOrigin, "a leaf origin");
+        read_pod(in_.is, &count);
+      }
+      compressed_values<ValueT>(LeafT::SIZE, values, from_half);
+      // Auxiliary buffers of early files: not mask compressed, zipped or raw.
+      const uint32_t aux = openvdb::io::getDataCompression(in_.is) & openvdb::io::COMPRESS_ZIP;
+      using Half = openvdb::io::RealToHalf<ValueT>;
+      const size_t bytes = from_half && Half::isReal ? sizeof(typename Half::HalfT) : sizeof(ValueT);
+      for (int i = 1; i < count; ++i) data(LeafT::SIZE, bytes, aux);
+    }
+  }
+
+  Input& in_;
+  std::string grid_;
+};
+
 // Tree::readTopology + RootNode::readTopology (format >= 213), leak-free:
 // each child is owned by a unique_ptr until the root owns it.
 template <typename GridT>
-void read_topology_safely(GridT& grid, std::istream& is) {
+void read_topology_safely(GridT& grid, std::istream& is, ChunkCheck& check) {
   using TreeT = typename GridT::TreeType;
   using RootT = typename TreeT::RootNodeType;
   using ChildT = typename RootT::ChildNodeType;
@@ -278,6 +444,7 @@ void read_topology_safely(GridT& grid, std::istream& is) {
   for (openvdb::Index n = 0; n < num_children; ++n) {
     int32_t v[3];
     is.read(reinterpret_cast<char*>(v), sizeof(v));
+    check.topology<ChildT>(grid.saveFloatAsHalf());
     std::unique_ptr<ChildT> child(
         new ChildT(openvdb::PartialCreate(), Coord(v[0], v[1], v[2]), root.background()));
     child->readTopology(is, grid.saveFloatAsHalf());
@@ -295,26 +462,32 @@ using DensityGrids = openvdb::TypeList<openvdb::FloatGrid, openvdb::DoubleGrid>;
 
 // The part of io::Archive::readGrid after the metadata: transform, topology, buffers.
 void read_grid_body(openvdb::GridBase& grid, const Descriptor& d, Input& in, uint32_t version) {
-  const bool with_tree = d.instance_parent.empty();
-  auto read_tree = [&] {
-    const bool known = grid.apply<ReadableGrids>([&](auto& g) { read_topology_safely(g, in.is); });
+  ChunkCheck check(in, d.name);
+  auto read_topology = [&] {
+    const bool known = grid.apply<ReadableGrids>([&](auto& g) { read_topology_safely(g, in.is, check); });
     if (!known) {
       throw ReadError("cannot read grid " + quoted(d.name) + " of type " + printable(d.type) +
                       " (not a supported grid type)");
     }
+  };
+  auto read_buffers = [&] {
+    grid.apply<ReadableGrids>([&](auto& g) {
+      using LeafT = typename std::decay_t<decltype(g)>::TreeType::LeafNodeType;
+      check.buffers<LeafT>(g.tree().leafCount(), g.saveFloatAsHalf());
+    });
     grid.readBuffers(in.is);
   };
   if (version >= openvdb::OPENVDB_FILE_VERSION_GRID_INSTANCING) {
     grid.readTransform(in.is);
-    if (with_tree) read_tree();
+    if (d.instance_parent.empty()) {
+      read_topology();
+      read_buffers();
+    }
   } else {
     // Older files stored the transform after the topology.
-    if (!grid.apply<ReadableGrids>([&](auto& g) { read_topology_safely(g, in.is); })) {
-      throw ReadError("cannot read grid " + quoted(d.name) + " of type " + printable(d.type) +
-                      " (not a supported grid type)");
-    }
+    read_topology();
     grid.readTransform(in.is);
-    grid.readBuffers(in.is);
+    read_buffers();
   }
 }
 

@@ -632,6 +632,61 @@ TEST_F(VdbTest, DamagedMetadataLengthIsAnErrorBeforeAnyAllocation) {
   }
 }
 
+// OpenVDB 10's bloscFromStream/unzipFromStream read a chunk stored
+// uncompressed (size -n) into the node's buffer before comparing n with the
+// buffer's size: a damaged n overflowed the heap (fuzz/findings/). A leaf with
+// three active values is mask-compressed to 12 bytes, which zip stores
+// uncompressed (-12, then the floats; blosc pads small chunks and compresses
+// them, so the blosc path is the fuzzer's file below); the damaged files say
+// more, or less. Before the fix: heap-buffer-overflow in unzipFromStream (ASan).
+TEST_F(VdbTest, DamagedChunkSizeIsAnErrorBeforeOpenVdbReadsIntoTheNode) {
+  openvdb::FloatGrid::Ptr g = float_grid("density");
+  g->setGridClass(openvdb::GRID_UNKNOWN);  // OpenVDB never zips a fog volume
+  const float v[3] = {0.625f, 0.375f, 0.875f};
+  for (int i = 0; i < 3; ++i) g->tree().setValue(openvdb::Coord(i, 0, 0), v[i]);
+  std::string chunk(8 + sizeof(v), '\0');  // int64 size, then the three values
+  const int64_t stored = -static_cast<int64_t>(sizeof(v));
+  std::memcpy(&chunk[0], &stored, 8);
+  std::memcpy(&chunk[8], v, sizeof(v));
+  {
+    const uint32_t compression = openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_ACTIVE_MASK;
+    std::ostringstream os(std::ios::binary);
+    openvdb::io::Stream out(os);
+    out.setCompression(compression);
+    out.write({g});
+    const std::string good = os.str();
+    ASSERT_TRUE(atmo::vdb::load_vdb_from_memory(good, "c.vdb", LoadOptions()).ok);
+    const size_t at = good.find(chunk);
+    ASSERT_NE(at, std::string::npos) << "no uncompressed 12-byte leaf chunk";
+    for (int64_t says : {int64_t{-4012}, int64_t{-8}, std::numeric_limits<int64_t>::min()}) {
+      std::string bad = good;
+      std::memcpy(&bad[at], &says, 8);
+      const LoadResult r = atmo::vdb::load_vdb_from_memory(bad, "c.vdb", LoadOptions());
+      EXPECT_FALSE(r.ok) << says;
+      EXPECT_TRUE(contains(r.error, "c.vdb") && contains(r.error, "uncompressed chunk at byte " + std::to_string(at)) &&
+                  contains(r.error, "where its node holds 12") && contains(r.error, "\"density\""))
+          << says << ": " << r.error;
+    }
+    // A compressed chunk larger than the file is refused before OpenVDB allocates it.
+    std::string bad = good;
+    const int64_t huge = int64_t{1} << 40;
+    std::memcpy(&bad[at], &huge, 8);
+    const LoadResult r = atmo::vdb::load_vdb_from_memory(bad, "c.vdb", LoadOptions());
+    EXPECT_FALSE(r.ok);
+    EXPECT_TRUE(contains(r.error, "compressed chunk of 1099511627776 bytes") && contains(r.error, "runs past the end"))
+        << r.error;
+  }
+}
+
+// The fuzzer's input (43 KB) that wrote 26 221 bytes into a 4 688-byte buffer.
+TEST_F(VdbTest, FuzzFindingWithANegativeChunkSizeIsRefused) {
+  const std::string bytes = read_all(ATMO_FUZZ_FINDINGS_DIR "/vdb_openvdb_negative_chunk_size_overflow.vdb");
+  ASSERT_GT(bytes.size(), 40000u);
+  const LoadResult r = atmo::vdb::load_vdb_from_memory(bytes, "finding.vdb", LoadOptions());
+  EXPECT_FALSE(r.ok);
+  EXPECT_TRUE(contains(r.error, "finding.vdb") && contains(r.error, "uncompressed chunk")) << r.error;
+}
+
 TEST_F(VdbTest, BadOptionsAndBadVolumesAreErrors) {
   openvdb::FloatGrid::Ptr g = float_grid("density");
   add_blob(*g, openvdb::Coord(0), 2, 1.0f);

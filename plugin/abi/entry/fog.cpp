@@ -55,37 +55,41 @@ AtmoResult fog_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& sce
   return ATMO_SUCCESS;
 }
 
-AtmoResult set_fog(AtmoContext context, const AtmoFogState* state) {
-  if (!state)  // no fog
-    return with_context(context, "set_fog", [&](AtmoContext_T* ctx) -> AtmoResult {
-      ctx->fog.optics = fog::FogOptics{};
-      ctx->fog.optics.extinction_per_m = 0.0;
+// set_fog and set_lights: null clears (no fog, no lights); either way, on
+// success, every view's fog frame is made again.
+template <typename State, typename Clear, typename Apply>
+AtmoResult set_fog_input(AtmoContext context, const char* function, const State* state, AtmoStructType type,
+                         const char* type_name, Clear clear, Apply apply) {
+  if (!state)
+    return with_context(context, function, [&](AtmoContext_T* ctx) -> AtmoResult {
+      clear(ctx);
       ++ctx->fog_serial;
       return ATMO_SUCCESS;
     });
-  return context_call(context, "set_fog", state, ATMO_TYPE_FOG_STATE, "AtmoFogState",
-                      [&](AtmoContext_T* ctx, const AtmoFogState& s) -> AtmoResult {
-                        Verdict v = set_fog_state(s, &ctx->fog);
-                        if (!v.ok()) return fail(ctx, v.code, "set_fog", v.message);
+  return context_call(context, function, state, type, type_name,
+                      [&](AtmoContext_T* ctx, const State& s) -> AtmoResult {
+                        Verdict v = apply(s, ctx);
+                        if (!v.ok()) return fail(ctx, v.code, function, v.message);
                         ++ctx->fog_serial;
                         return ATMO_SUCCESS;
                       });
 }
 
+AtmoResult set_fog(AtmoContext context, const AtmoFogState* state) {
+  return set_fog_input(
+      context, "set_fog", state, ATMO_TYPE_FOG_STATE, "AtmoFogState",
+      [](AtmoContext_T* ctx) {
+        ctx->fog.optics = fog::FogOptics{};
+        ctx->fog.optics.extinction_per_m = 0.0;
+      },
+      [](const AtmoFogState& s, AtmoContext_T* ctx) { return set_fog_state(s, &ctx->fog); });
+}
+
 AtmoResult set_lights(AtmoContext context, const AtmoLightsState* state) {
-  if (!state)  // no lights
-    return with_context(context, "set_lights", [&](AtmoContext_T* ctx) -> AtmoResult {
-      ctx->lights = fog::FogLights{};
-      ++ctx->fog_serial;
-      return ATMO_SUCCESS;
-    });
-  return context_call(context, "set_lights", state, ATMO_TYPE_LIGHTS_STATE, "AtmoLightsState",
-                      [&](AtmoContext_T* ctx, const AtmoLightsState& s) -> AtmoResult {
-                        Verdict v = set_lights_state(s, &ctx->lights);
-                        if (!v.ok()) return fail(ctx, v.code, "set_lights", v.message);
-                        ++ctx->fog_serial;
-                        return ATMO_SUCCESS;
-                      });
+  return set_fog_input(
+      context, "set_lights", state, ATMO_TYPE_LIGHTS_STATE, "AtmoLightsState",
+      [](AtmoContext_T* ctx) { ctx->lights = fog::FogLights{}; },
+      [](const AtmoLightsState& s, AtmoContext_T* ctx) { return set_lights_state(s, &ctx->lights); });
 }
 
 AtmoResult get_fog_lighting(AtmoView view_handle, AtmoFogLighting* out) {

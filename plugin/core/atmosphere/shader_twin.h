@@ -34,9 +34,7 @@ inline vec3 sample_lut(const Lut2D& table, const vec2& uv) {
   return mix(a, b, ay);
 }
 
-#define ATMO_FN inline
-#define IN(T) const T&
-#define OUT(T) T&
+#include "core/twin/glsl_begin.h"
 #define LUT2D const Lut2D&
 #include "atmosphere/functions.glsl"
 // The aerial-perspective volume's slice mapping, from the host include.
@@ -47,9 +45,7 @@ inline vec3 sample_lut(const Lut2D& table, const vec2& uv) {
 #undef ATMO_AP_OUT
 #undef ATMO_AP_FN
 #undef ATMO_TWIN
-#undef ATMO_FN
-#undef IN
-#undef OUT
+#include "core/twin/glsl_end.h"
 #undef LUT2D
 
 }  // namespace atmo::twin

@@ -17,14 +17,12 @@ namespace atmo::clouds::twin {
 
 using namespace glm;
 
-#define ATMO_FN inline
-#define IN(T) const T&
+#include "core/twin/glsl_begin.h"
 #define CLOUD_VOLUME CpuCloudVolume
 inline vec4 cloud_fetch(const CpuCloudVolume& v, const vec3& p) { return fetch_cloud_volume(v, p); }
 #include "clouds/cloud_functions.glsl"
 #include "clouds/cloud_march.glsl"
 #undef CLOUD_VOLUME
-#undef ATMO_FN
-#undef IN
+#include "core/twin/glsl_end.h"
 
 }  // namespace atmo::clouds::twin

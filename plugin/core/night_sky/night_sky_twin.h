@@ -17,14 +17,10 @@ namespace atmo::twin {
 
 using namespace glm;
 
-#define ATMO_FN inline
-#define IN(T) const T&
-#define OUT(T) T&
+#include "core/twin/glsl_begin.h"
 #include "night_sky/moon_disc.glsl"
 #include "night_sky/background.glsl"
-#undef ATMO_FN
-#undef IN
-#undef OUT
+#include "core/twin/glsl_end.h"
 
 }  // namespace atmo::twin
 

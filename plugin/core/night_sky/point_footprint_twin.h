@@ -10,8 +10,8 @@ namespace atmo::twin {
 
 using namespace glm;
 
-#define ATMO_FN inline
+#include "core/twin/glsl_begin.h"
 #include "night_sky/point_footprint.glsl"
-#undef ATMO_FN
+#include "core/twin/glsl_end.h"
 
 }  // namespace atmo::twin

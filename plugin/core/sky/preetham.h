@@ -19,13 +19,9 @@
 // The shared GLSL source as C++ (no-op if shader_twin.h already included it:
 // preetham.glsl carries its own include guard, valid in GLSL and C++).
 namespace atmo::twin {
-#define ATMO_FN inline
-#define IN(T) const T&
-#define OUT(T) T&
+#include "core/twin/glsl_begin.h"
 #include "atmosphere/preetham.glsl"
-#undef ATMO_FN
-#undef IN
-#undef OUT
+#include "core/twin/glsl_end.h"
 }  // namespace atmo::twin
 
 namespace atmo::core {
