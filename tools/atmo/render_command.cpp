@@ -20,6 +20,7 @@
 #include "atmo_support/image.h"
 #include "atmo_support/image_metrics.h"
 #include "atmo_support/offscreen_target.h"
+#include "scenario_setup.h"
 
 namespace atmo::render {
 
@@ -53,21 +54,6 @@ hs::DepthConvention depth_of(const sc::Scenario& s, const std::string& override_
     default: return hs::DepthConvention::Reversed;
   }
 }
-
-hs::TerrainOptions terrain_of(const sc::Scenario& s) {
-  hs::TerrainOptions t;
-  if (!s.terrain || s.terrain->kind == sc::TerrainKind::None) {
-    t.kind = hs::TerrainOptions::Kind::None;
-    return t;
-  }
-  t.seed = s.terrain->seed;
-  t.size_m = s.terrain->size_m;
-  t.relief_m = s.terrain->kind == sc::TerrainKind::Flat ? 0.0 : s.terrain->relief_m;
-  t.runway_heading_deg = s.terrain->runway_heading_deg;
-  return t;
-}
-
-hs::Geodetic to_host(const sc::GeodeticPoint& g) { return {g.latitude_deg, g.longitude_deg, g.height_m}; }
 
 // Time of one step of the frame: wall time from a drained queue to glFinish
 // (llvmpipe defers rasterisation, so a GL timer query alone can miss it), with
@@ -163,11 +149,7 @@ void set_clouds(const sc::Scenario& scenario, atmo::Context& context) {
 
 // The scenario's fog through set_fog (none: no call, no cost).
 void set_fog(const sc::Scenario& scenario, atmo::Context& context) {
-  if (!scenario.fog) return;
-  AtmoFogState fog = atmo::make<AtmoFogState>(ATMO_TYPE_FOG_STATE);
-  fog.visibility_m = scenario.fog->visibility_m;
-  fog.top_height_m = scenario.location.height_m + scenario.fog->top_m;  // the file's top is above the ENU origin
-  context.set_fog(fog);
+  if (scenario.fog) context.set_fog(fog_state_of(scenario));
 }
 
 // The scenario's lights (the runway's approach, threshold and edge lights
@@ -176,20 +158,8 @@ void set_fog(const sc::Scenario& scenario, atmo::Context& context) {
 // camera's white are not drawn.
 void set_lights(const sc::Scenario& scenario, const hs::Terrain& terrain, double exposure, atmo::Context& context) {
   if (!scenario.lights) return;
-  std::vector<AtmoLightPoint> points;
-  if (scenario.lights->runway_approach) points = terrain.atmo_light_points();
-  for (const sc::LightPoint& l : scenario.lights->points) {
-    AtmoLightPoint p{};
-    for (int k = 0; k < 3; ++k) {
-      p.position_m[k] = l.enu_m[k];
-      p.color[k] = l.color[k];
-    }
-    p.intensity_cd = l.intensity_cd;
-    points.push_back(p);
-  }
-  const hs::Geodetic origin{scenario.location.latitude_deg, scenario.location.longitude_deg,
-                            scenario.location.height_m};
-  context.set_lights(hs::lights_state_enu(origin, points, 1.0 / (2000.0 * exposure)));
+  const std::vector<AtmoLightPoint> points = light_points_of(scenario, terrain);
+  context.set_lights(hs::lights_state_enu(origin_of(scenario), points, 1.0 / (2000.0 * exposure)));
 }
 
 int run_render(const Options& options) {
@@ -241,29 +211,14 @@ int run_render(const Options& options) {
     nlohmann::json report = {{"scenario", scenario.name}, {"file", options.scenario_path},
                              {"depth_convention", hs::to_string(depth)}, {"gl_renderer", gl->renderer()},
                              {"cameras", nlohmann::json::array()}};
-    const hs::Geodetic origin = to_host(scenario.location);
     for (size_t ci = 0; ci < scenario.cameras.size(); ++ci) {
       const sc::Camera& cam = scenario.cameras[ci];
       auto target = support::OffscreenTarget::create(cam.width, cam.height, &error);
       if (!target) throw std::runtime_error("offscreen target: " + error);
       atmo::View view(context, static_cast<uint32_t>(ci));
 
-      hs::ViewSetup setup;
-      setup.world_origin = origin;
-      setup.pose.position_enu_m = cam.position.kind == sc::Position::Kind::Enu
-                                      ? glm::dvec3(cam.position.enu_m[0], cam.position.enu_m[1], cam.position.enu_m[2])
-                                      : hs::enu_from_geodetic(origin, to_host(cam.position.geodetic));
-      setup.pose.heading_deg = cam.heading_deg;
-      setup.pose.pitch_deg = cam.pitch_deg;
-      setup.pose.roll_deg = cam.roll_deg;
-      setup.vfov_rad = glm::radians(cam.vertical_fov_deg);
-      setup.near_m = cam.near_m;
-      setup.far_m = cam.far_m;
-      setup.depth_convention = depth;
-      setup.viewport = {0, 0, cam.width, cam.height};
+      hs::ViewSetup setup = view_setup_of(scenario, ci, depth);
       setup.depth_texture = target->depth_texture();
-      setup.output_encoding = ATMO_OUTPUT_LINEAR_HDR;
-      setup.exposure_scale = 1.0;  // the frame holds absolute cd/m^2; exposure is applied when writing the PNG
       view.set(hs::make_view_state(setup));
 
       const AtmoLighting lighting = view.lighting();

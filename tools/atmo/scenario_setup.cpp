@@ -1,0 +1,75 @@
+#include "scenario_setup.h"
+
+#include <glm/glm.hpp>
+
+#include "atmo/atmo.hpp"
+
+namespace atmo::render {
+
+namespace hs = atmo::host_scene;
+namespace sc = atmo::scenario;
+
+hs::TerrainOptions terrain_of(const sc::Scenario& s) {
+  hs::TerrainOptions t;
+  if (!s.terrain || s.terrain->kind == sc::TerrainKind::None) {
+    t.kind = hs::TerrainOptions::Kind::None;
+    return t;
+  }
+  t.seed = s.terrain->seed;
+  t.size_m = s.terrain->size_m;
+  t.relief_m = s.terrain->kind == sc::TerrainKind::Flat ? 0.0 : s.terrain->relief_m;
+  t.runway_heading_deg = s.terrain->runway_heading_deg;
+  return t;
+}
+
+hs::Geodetic to_host(const sc::GeodeticPoint& g) { return {g.latitude_deg, g.longitude_deg, g.height_m}; }
+
+hs::Geodetic origin_of(const sc::Scenario& s) { return to_host(s.location); }
+
+std::vector<AtmoLightPoint> light_points_of(const sc::Scenario& s, const hs::Terrain& terrain) {
+  std::vector<AtmoLightPoint> points;
+  if (!s.lights) return points;
+  if (s.lights->runway_approach) points = terrain.atmo_light_points();
+  for (const sc::LightPoint& l : s.lights->points) {
+    AtmoLightPoint p{};
+    for (int k = 0; k < 3; ++k) {
+      p.position_m[k] = l.enu_m[k];
+      p.color[k] = l.color[k];
+    }
+    p.intensity_cd = l.intensity_cd;
+    points.push_back(p);
+  }
+  return points;
+}
+
+AtmoFogState fog_state_of(const sc::Scenario& s) {
+  AtmoFogState fog = atmo::make<AtmoFogState>(ATMO_TYPE_FOG_STATE);
+  if (!s.fog) return fog;
+  fog.visibility_m = s.fog->visibility_m;
+  fog.top_height_m = s.location.height_m + s.fog->top_m;  // the file's top is above the ENU origin
+  return fog;
+}
+
+hs::ViewSetup view_setup_of(const sc::Scenario& s, size_t ci, hs::DepthConvention depth) {
+  const sc::Camera& cam = s.cameras[ci];
+  const hs::Geodetic origin = origin_of(s);
+  hs::ViewSetup setup;
+  setup.world_origin = origin;
+  setup.pose.position_enu_m =
+      cam.position.kind == sc::Position::Kind::Enu
+          ? glm::dvec3(cam.position.enu_m[0], cam.position.enu_m[1], cam.position.enu_m[2])
+          : hs::enu_from_geodetic(origin, to_host(cam.position.geodetic));
+  setup.pose.heading_deg = cam.heading_deg;
+  setup.pose.pitch_deg = cam.pitch_deg;
+  setup.pose.roll_deg = cam.roll_deg;
+  setup.vfov_rad = glm::radians(cam.vertical_fov_deg);
+  setup.near_m = cam.near_m;
+  setup.far_m = cam.far_m;
+  setup.depth_convention = depth;
+  setup.viewport = {0, 0, cam.width, cam.height};
+  setup.output_encoding = ATMO_OUTPUT_LINEAR_HDR;
+  setup.exposure_scale = 1.0;  // the frame holds absolute cd/m^2; exposure is applied when writing the PNG
+  return setup;
+}
+
+}  // namespace atmo::render

@@ -1,0 +1,39 @@
+// scenario_setup.h — what `atmo render` hands the plugin and the host scene for
+// a scenario, as plain data: the terrain's options, the light list (the
+// runway's generated lights and the file's own points), the fog state and a
+// camera's view setup. One place, so a test that recomputes a render's light
+// from the same inputs (tests/render/runway_fog_night_test.cpp) uses exactly
+// what the render used.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "atmo/atmo.h"
+#include "atmo_host_scene/camera.h"
+#include "atmo_host_scene/terrain.h"
+#include "atmo_scenario/scenario.h"
+
+namespace atmo::render {
+
+// The scenario's terrain (Kind::None without one).
+host_scene::TerrainOptions terrain_of(const scenario::Scenario& s);
+
+host_scene::Geodetic to_host(const scenario::GeodeticPoint& g);
+// The ENU origin of the scenario's world frame.
+host_scene::Geodetic origin_of(const scenario::Scenario& s);
+
+// set_lights' light list, ENU at origin_of(s): the runway's approach,
+// threshold and edge lights when asked for (beamed along the approach), then
+// the file's own points (omnidirectional). Empty without a "lights" block.
+std::vector<AtmoLightPoint> light_points_of(const scenario::Scenario& s, const host_scene::Terrain& terrain);
+
+// set_fog's state: the file's visibility, and its top (above the ENU origin)
+// as a height above the ellipsoid. Only meaningful when s.fog is set.
+AtmoFogState fog_state_of(const scenario::Scenario& s);
+
+// Camera `ci`'s view: pose in ENU at origin_of(s), field of view, near/far,
+// the whole target as viewport; no depth texture, linear HDR output, exposure 1.
+host_scene::ViewSetup view_setup_of(const scenario::Scenario& s, size_t ci, host_scene::DepthConvention depth);
+
+}  // namespace atmo::render
