@@ -300,40 +300,84 @@ class ChunkCheck {
     return m;
   }
 
-  // io::readData: count values of value_bytes each, in one chunk.
-  void data(uint64_t count, size_t value_bytes, uint32_t compression) {
+  // io::readData: count values of value_bytes each, in one chunk. With
+  // `decode` (the topology, and bool values anywhere) the chunk is also
+  // decoded, by OpenVDB's own decoder into a buffer of the node's size, and
+  // bools must be 0 or 1: OpenVDB fills in an internal node's children only
+  // after reading its values, so a throw there (a compressed chunk that does
+  // not decode) leaves a child mask over tile values, which the node's
+  // destructor deletes as pointers; and a bool byte other than 0/1 is UB.
+  void data(uint64_t count, size_t value_bytes, uint32_t compression, bool decode, bool booleans) {
+    namespace io = openvdb::io;
     const uint64_t expected = count * value_bytes;
-    if (!(compression & (openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ZIP))) {
-      skip(expected, "a node's values");
+    const size_t chunk = in_.buf.position();
+    std::vector<char> values;
+    auto check_booleans = [&] {
+      if (!booleans) return;
+      for (char c : values) {
+        if (c != 0 && c != 1) {
+          throw ReadError("corrupt: a bool value other than 0 or 1 in the chunk " + at(chunk));
+        }
+      }
+    };
+    if (!(compression & (io::COMPRESS_BLOSC | io::COMPRESS_ZIP))) {
+      if (!decode) {
+        skip(expected, "a node's values");
+        return;
+      }
+      if (expected > in_.buf.remaining()) skip(expected, "a node's values");  // throws
+      values.resize(expected);
+      in_.is.read(values.data(), static_cast<std::streamsize>(expected));
+      check_booleans();
       return;
     }
-    const size_t chunk = in_.buf.position();
     int64_t size = 0;
     read_pod(in_.is, &size);
     if (size > 0) {
       skip(static_cast<uint64_t>(size), "a compressed chunk");
-      return;
+    } else {
+      const uint64_t raw = uint64_t{0} - static_cast<uint64_t>(size);  // no overflow at INT64_MIN
+      if (raw != expected) {
+        throw ReadError("corrupt: an uncompressed chunk " + at(chunk) + " says " + num(raw) +
+                        " bytes where its node holds " + num(expected));
+      }
+      skip(raw, "an uncompressed chunk");
     }
-    const uint64_t raw = uint64_t{0} - static_cast<uint64_t>(size);  // no overflow at INT64_MIN
-    if (raw != expected) {
-      throw ReadError("corrupt: an uncompressed chunk " + at(chunk) + " says " + num(raw) +
-                      " bytes where its node holds " + num(expected));
+    if (!decode || expected == 0) return;
+    in_.is.seekg(static_cast<std::streamoff>(chunk));
+    values.resize(expected);  // at most 32768 values of 24 bytes: the size now checked, OpenVDB reads it safely
+    try {
+      if (compression & io::COMPRESS_BLOSC) {
+        io::bloscFromStream(in_.is, values.data(), expected);
+      } else {
+        io::unzipFromStream(in_.is, values.data(), expected);
+      }
+    } catch (const openvdb::Exception& e) {
+      throw ReadError("corrupt: the chunk " + at(chunk) + " does not decode (" + printable(e.what(), 120) + ")");
     }
-    skip(raw, "an uncompressed chunk");
+    check_booleans();
   }
 
   // io::readCompressedValues(is, buf, count, value_mask, from_half).
   template <typename ValueT, typename MaskT>
-  void compressed_values(uint64_t count, const MaskT& value_mask, bool from_half) {
+  void compressed_values(uint64_t count, const MaskT& value_mask, bool from_half, bool decode) {
     namespace io = openvdb::io;
+    constexpr bool booleans = std::is_same_v<ValueT, bool>;
     const uint32_t compression = io::getDataCompression(in_.is);
     const bool node_masks = version() >= openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION;
     int8_t meta = io::NO_MASK_AND_ALL_VALS;
     if (node_masks) read_pod(in_.is, &meta);
     const bool inactive = meta == io::NO_MASK_AND_ONE_INACTIVE_VAL || meta == io::MASK_AND_ONE_INACTIVE_VAL ||
                           meta == io::MASK_AND_TWO_INACTIVE_VALS;
-    if (inactive) skip(sizeof(ValueT), "an inactive value");
-    if (meta == io::MASK_AND_TWO_INACTIVE_VALS) skip(sizeof(ValueT), "an inactive value");
+    auto inactive_value = [&] {
+      if constexpr (booleans) {
+        data(1, 1, 0, true, true);  // read raw into a bool
+      } else {
+        skip(sizeof(ValueT), "an inactive value");
+      }
+    };
+    if (inactive) inactive_value();
+    if (meta == io::MASK_AND_TWO_INACTIVE_VALS) inactive_value();
     if (meta == io::MASK_AND_NO_INACTIVE_VALS || meta == io::MASK_AND_ONE_INACTIVE_VAL ||
         meta == io::MASK_AND_TWO_INACTIVE_VALS) {
       skip(MaskT::memUsage(), "a selection mask");
@@ -343,9 +387,9 @@ class ChunkCheck {
     }
     using Half = io::RealToHalf<ValueT>;
     if (from_half && Half::isReal) {
-      if (count >= 1) data(count, sizeof(typename Half::HalfT), compression);  // HalfReader skips 0
+      if (count >= 1) data(count, sizeof(typename Half::HalfT), compression, decode, false);  // HalfReader skips 0
     } else {
-      data(count, sizeof(ValueT), compression);
+      data(count, sizeof(ValueT), compression, decode || booleans, booleans);
     }
   }
 
@@ -370,7 +414,7 @@ class ChunkCheck {
         return;
       }
       const bool old = version() < openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION;
-      compressed_values<ValueT>(old ? children.countOff() : NodeT::NUM_VALUES, values, from_half);
+      compressed_values<ValueT>(old ? children.countOff() : NodeT::NUM_VALUES, values, from_half, /*decode=*/true);
       for (auto it = children.beginOn(); it; ++it) node_topology<ChildT>(from_half);
     }
   }
@@ -389,8 +433,8 @@ class ChunkCheck {
       } else {
         int8_t count = 0;
         read_pod(in_.is, &count);
-        data(LeafT::SIZE, sizeof(bool), openvdb::io::COMPRESS_ZIP);  // readData(..., isCompressed=true)
-        for (int i = 1; i < count; ++i) data(LeafT::SIZE, sizeof(bool), openvdb::io::COMPRESS_ZIP);
+        // readData(..., isCompressed=true) into bools
+        for (int i = 0; i < std::max<int>(count, 1); ++i) data(LeafT::SIZE, sizeof(bool), openvdb::io::COMPRESS_ZIP, true, true);
       }
     } else {
       const MaskT values = mask<MaskT>();
@@ -399,12 +443,12 @@ class ChunkCheck {
         skip(kOrigin, "a leaf origin");
         read_pod(in_.is, &count);
       }
-      compressed_values<ValueT>(LeafT::SIZE, values, from_half);
+      compressed_values<ValueT>(LeafT::SIZE, values, from_half, /*decode=*/false);
       // Auxiliary buffers of early files: not mask compressed, zipped or raw.
       const uint32_t aux = openvdb::io::getDataCompression(in_.is) & openvdb::io::COMPRESS_ZIP;
       using Half = openvdb::io::RealToHalf<ValueT>;
       const size_t bytes = from_half && Half::isReal ? sizeof(typename Half::HalfT) : sizeof(ValueT);
-      for (int i = 1; i < count; ++i) data(LeafT::SIZE, bytes, aux);
+      for (int i = 1; i < count; ++i) data(LeafT::SIZE, bytes, aux, false, false);
     }
   }
 
@@ -576,12 +620,21 @@ DenseLayout plan_dense_grid(const GridT& grid, uint64_t max_voxels, const std::s
   DenseLayout l;
   l.bbox = grid.evalActiveVoxelBoundingBox();
   for (int a = 0; a < 3; ++a) l.dims[a] = int64_t{l.bbox.max()[a]} - l.bbox.min()[a] + 1;
-  // Any f that fits has f^3 >= box volume / max_voxels: start the search there.
-  // It ends at the latest at f = max(dims), which gives 3^3 voxels.
-  const double ratio = static_cast<double>(l.dims[0]) * static_cast<double>(l.dims[1]) *
-                       static_cast<double>(l.dims[2]) / static_cast<double>(max_voxels);
-  l.f = std::max<int64_t>(1, static_cast<int64_t>(std::cbrt(ratio)) - 1);
-  while (!fits(l.dims, l.f, max_voxels, l.n)) ++l.f;
+  // fits() is monotone in f, and f = max(dims) fits (3^3 voxels): the least f
+  // by doubling, then bisection (a thin box 2^32 voxels long took 1e9 steps
+  // one at a time; found by fuzz/vdb_fuzz.cpp).
+  int64_t lo = 0, hi = 1;  // fits(lo) false (f = 0 is no factor), fits(hi) to be found
+  const int64_t longest = std::max({l.dims[0], l.dims[1], l.dims[2], int64_t{1}});
+  while (hi < longest && !fits(l.dims, hi, max_voxels, l.n)) {
+    lo = hi;
+    hi = std::min(hi * 2, longest);
+  }
+  while (hi - lo > 1) {
+    const int64_t mid = lo + (hi - lo) / 2;
+    if (fits(l.dims, mid, max_voxels, l.n)) hi = mid; else lo = mid;
+  }
+  l.f = hi;
+  if (!fits(l.dims, l.f, max_voxels, l.n)) throw ReadError(where + ": no downsampling fits max_voxels " + num(max_voxels));
   return l;
 }
 
@@ -609,7 +662,8 @@ void add_tile(const CoordBBox& box, double v, const DenseLayout& l, clouds::Dens
   for (int64_t z = lo[2]; z <= hi[2]; ++z) {
     for (int64_t y = lo[1]; y <= hi[1]; ++y) {
       for (int64_t x = lo[0]; x <= hi[0]; ++x) {
-        const double count = static_cast<double>(overlap(0, x) * overlap(1, y) * overlap(2, z));
+        const double count = static_cast<double>(overlap(0, x)) * static_cast<double>(overlap(1, y)) *
+                             static_cast<double>(overlap(2, z));  // up to 2^93: not in int64
         dense->at(static_cast<int>(x + 1), static_cast<int>(y + 1), static_cast<int>(z + 1)) +=
             static_cast<float>(v * count);
       }
@@ -661,14 +715,20 @@ void finish_values(const ValueStats& s, const DenseLayout& l, double voxel_size,
                     coord_str(s.first_nan) + ")");
   }
   if (l.f > 1) {
-    const float inv = static_cast<float>(1.0 / (static_cast<double>(l.f) * l.f * l.f));
-    for (float& v : dense->values) v *= inv;
+    for (float& v : dense->values) v = static_cast<float>(static_cast<double>(v) / (static_cast<double>(l.f) * l.f * l.f));
     const double vs_m = voxel_size * options.metres_per_unit;
     warnings->push_back(label + ": " + num(l.dims[0]) + "x" + num(l.dims[1]) + "x" + num(l.dims[2]) +
                         " active voxels exceed max_voxels " + num(options.max_voxels) + ": downsampled by " +
                         num(l.f) + " (box filter, mass preserved) to " + num(l.n[0]) + "x" + num(l.n[1]) + "x" +
                         num(l.n[2]) + " with padding, voxel " + num(vs_m) + " m -> " +
                         num(vs_m * static_cast<double>(l.f)) + " m");
+  }
+  // Float sums of huge values (or of a huge density_scale) overflow to inf.
+  for (const float v : dense->values) {
+    if (!std::isfinite(v)) {
+      throw ReadError(where + ": densities exceed the float range after density_scale " + num(options.density_scale) +
+                      " (max value " + num(s.max_value) + ")");
+    }
   }
   if (s.negative_count > 0) {
     warnings->push_back(label + ": " + num(s.negative_count) + " negative value(s) (min " + num(s.min_value) +

@@ -687,6 +687,39 @@ TEST_F(VdbTest, FuzzFindingWithANegativeChunkSizeIsRefused) {
   EXPECT_TRUE(contains(r.error, "finding.vdb") && contains(r.error, "uncompressed chunk")) << r.error;
 }
 
+// The fuzzer's second input (16 KB): a compressed chunk of an internal node's
+// tile values that does not decode. OpenVDB throws after loading the node's
+// child mask and before setting its children, and the node's destructor
+// deleted tile values as child pointers (UBSan: member call on misaligned
+// address, in ~InternalNode). The reader decodes topology chunks first.
+TEST_F(VdbTest, FuzzFindingWithAnUndecodableChunkIsRefused) {
+  const std::string bytes = read_all(ATMO_FUZZ_FINDINGS_DIR "/vdb_openvdb_undecodable_chunk_child_mask.vdb");
+  ASSERT_GT(bytes.size(), 10000u);
+  const LoadResult r = atmo::vdb::load_vdb_from_memory(bytes, "finding.vdb", LoadOptions());
+  EXPECT_FALSE(r.ok);
+  EXPECT_TRUE(contains(r.error, "finding.vdb") && contains(r.error, "corrupt")) << r.error;
+}
+
+// fuzz_vdb: a box 2^30 voxels long and one wide searched its downsampling
+// factor one step at a time (10^9 steps, a timeout); huge values summed in
+// float made the downsampled densities infinite.
+TEST_F(VdbTest, AThinHugeBoxDownsamplesAtOnceAndHugeDensitiesAreAnError) {
+  openvdb::FloatGrid::Ptr g = float_grid("density");
+  g->tree().setValue(openvdb::Coord(0, 0, -(1 << 29)), 0.5f);
+  g->tree().setValue(openvdb::Coord(0, 0, (1 << 29)), 0.5f);
+  LoadOptions o;
+  o.max_voxels = 64;
+  const LoadResult thin = atmo::vdb::load_vdb_from_memory(encodings({g})[0], "thin.vdb", o);
+  ASSERT_TRUE(thin.ok) << thin.error;
+  EXPECT_LE(thin.volume.density.values.size(), 64u);
+  openvdb::FloatGrid::Ptr h = float_grid("density");
+  for (int i = 0; i < 8; ++i) h->tree().setValue(openvdb::Coord(i, 0, 0), 3e38f);
+  o.density_scale = 1e6;
+  const LoadResult huge = atmo::vdb::load_vdb_from_memory(encodings({h})[0], "huge.vdb", o);
+  EXPECT_FALSE(huge.ok);
+  EXPECT_TRUE(contains(huge.error, "huge.vdb") && contains(huge.error, "exceed the float range")) << huge.error;
+}
+
 TEST_F(VdbTest, BadOptionsAndBadVolumesAreErrors) {
   openvdb::FloatGrid::Ptr g = float_grid("density");
   add_blob(*g, openvdb::Coord(0), 2, 1.0f);
