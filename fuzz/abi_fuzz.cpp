@@ -231,7 +231,9 @@ void call(Reader& in, AtmoView view) {
       HostStruct<AtmoLightsState> s;
       read_struct(in, head, ATMO_TYPE_LIGHTS_STATE, &s);
       uint32_t count = head.count;
-      std::vector<unsigned char> lights = read_array(in, &count, head.stride, 16384);
+      // light_size 0 means version 1's size (atmo.h): the array is sized as the plugin reads it.
+      const uint32_t element = head.stride ? head.stride : static_cast<uint32_t>(sizeof(AtmoLightPoint));
+      std::vector<unsigned char> lights = read_array(in, &count, element, 16384);
       s.value.light_count = count;
       s.value.light_size = head.stride;
       s.value.lights = reinterpret_cast<const AtmoLightPoint*>(lights.data());

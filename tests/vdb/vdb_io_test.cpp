@@ -678,26 +678,25 @@ TEST_F(VdbTest, DamagedChunkSizeIsAnErrorBeforeOpenVdbReadsIntoTheNode) {
   }
 }
 
-// The fuzzer's input (43 KB) that wrote 26 221 bytes into a 4 688-byte buffer.
-TEST_F(VdbTest, FuzzFindingWithANegativeChunkSizeIsRefused) {
-  const std::string bytes = read_all(ATMO_FUZZ_FINDINGS_DIR "/vdb_openvdb_negative_chunk_size_overflow.vdb");
-  ASSERT_GT(bytes.size(), 40000u);
-  const LoadResult r = atmo::vdb::load_vdb_from_memory(bytes, "finding.vdb", LoadOptions());
-  EXPECT_FALSE(r.ok);
-  EXPECT_TRUE(contains(r.error, "finding.vdb") && contains(r.error, "uncompressed chunk")) << r.error;
-}
-
-// The fuzzer's second input (16 KB): a compressed chunk of an internal node's
-// tile values that does not decode. OpenVDB throws after loading the node's
-// child mask and before setting its children, and the node's destructor
-// deleted tile values as child pointers (UBSan: member call on misaligned
-// address, in ~InternalNode). The reader decodes topology chunks first.
-TEST_F(VdbTest, FuzzFindingWithAnUndecodableChunkIsRefused) {
-  const std::string bytes = read_all(ATMO_FUZZ_FINDINGS_DIR "/vdb_openvdb_undecodable_chunk_child_mask.vdb");
-  ASSERT_GT(bytes.size(), 10000u);
-  const LoadResult r = atmo::vdb::load_vdb_from_memory(bytes, "finding.vdb", LoadOptions());
-  EXPECT_FALSE(r.ok);
-  EXPECT_TRUE(contains(r.error, "finding.vdb") && contains(r.error, "corrupt")) << r.error;
+// The fuzzer's inputs (fuzz/findings/): a negative blosc chunk size that wrote
+// 26 221 bytes into a 4 688-byte buffer (heap-buffer-overflow in
+// bloscFromStream), and a compressed chunk of an internal node's tile values
+// that does not decode: OpenVDB throws after loading the node's child mask and
+// before setting its children, and the node's destructor deleted tile values
+// as child pointers (UBSan: member call on misaligned address, ~InternalNode).
+TEST_F(VdbTest, FuzzFindingsAreRefused) {
+  const struct {
+    const char* file;
+    const char* says;
+  } findings[] = {{"vdb_openvdb_negative_chunk_size_overflow.vdb", "uncompressed chunk"},
+                  {"vdb_openvdb_undecodable_chunk_child_mask.vdb", "corrupt"}};
+  for (const auto& f : findings) {
+    const std::string bytes = read_all(std::string(ATMO_FUZZ_FINDINGS_DIR "/") + f.file);
+    ASSERT_GT(bytes.size(), 10000u) << f.file;
+    const LoadResult r = atmo::vdb::load_vdb_from_memory(bytes, "finding.vdb", LoadOptions());
+    EXPECT_FALSE(r.ok) << f.file;
+    EXPECT_TRUE(contains(r.error, "finding.vdb") && contains(r.error, f.says)) << f.file << ": " << r.error;
+  }
 }
 
 // fuzz_vdb: a box 2^30 voxels long and one wide searched its downsampling

@@ -119,15 +119,27 @@ AtmoResult gl_init(AtmoContext context) {
   });
 }
 
+namespace {
+
+// gl_shutdown deletes the context's GL objects; gl_context_lost forgets their
+// names, which died with the GL context. Either way the tables upload again.
+void drop_gl_objects(AtmoContext_T* ctx, bool destroy) {
+  auto drop = [destroy](auto& holder) {
+    if (destroy) holder.destroy(); else holder.forget();
+  };
+  drop(ctx->night_renderer);
+  drop(ctx->cloud_renderer);
+  drop(ctx->fog_renderer);
+  drop(ctx->renderer);
+  ctx->gl_alive = false;
+  ctx->uploaded_tables_version = 0;
+}
+
+}  // namespace
+
 AtmoResult gl_shutdown(AtmoContext context) {
   return with_context(context, "gl_shutdown", [&](AtmoContext_T* ctx) -> AtmoResult {
-    if (!ctx->gl_alive) return ATMO_SUCCESS;
-    ctx->night_renderer.destroy();
-    ctx->cloud_renderer.destroy();
-    ctx->fog_renderer.destroy();
-    ctx->renderer.destroy();
-    ctx->gl_alive = false;
-    ctx->uploaded_tables_version = 0;
+    if (ctx->gl_alive) drop_gl_objects(ctx, /*destroy=*/true);
     return ATMO_SUCCESS;
   });
 }
@@ -135,12 +147,7 @@ AtmoResult gl_shutdown(AtmoContext context) {
 AtmoResult gl_context_lost(AtmoContext context) {
   AtmoContext_T* ctx = live_context(context);
   if (!ctx) return fail(nullptr, ATMO_ERROR_INVALID_HANDLE, "gl_context_lost", "not a live context");
-  ctx->renderer.forget();
-  ctx->night_renderer.forget();
-  ctx->cloud_renderer.forget();
-  ctx->fog_renderer.forget();
-  ctx->gl_alive = false;
-  ctx->uploaded_tables_version = 0;
+  drop_gl_objects(ctx, /*destroy=*/false);
   return ATMO_SUCCESS;
 }
 
