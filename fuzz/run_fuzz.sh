@@ -6,6 +6,8 @@
 # fuzz/CMakeLists.txt).
 # libFuzzer exits non-zero on a crash, a sanitizer report, a leak, a timeout
 # or running out of memory; the failing input is written to ARTIFACTS/.
+# The suite's runs start from one seed, ATMO_FUZZ_SEED (default 1), so a CI
+# run replays what a run here explored first; ATMO_FUZZ_SEED=0 draws one.
 set -euo pipefail
 fuzzer=$1 corpus=$2 artifacts=$3 seconds=$4
 work=$(mktemp -d)
@@ -17,7 +19,7 @@ if [ "$seconds" = 0 ]; then
   limit=(-runs=0)
 else
   echo "[fuzz] $(basename "$fuzzer"): $(ls "$corpus" | wc -l) seeds, ${seconds} s; failing inputs go to $artifacts/"
-  limit=(-max_total_time="$seconds")
+  limit=(-max_total_time="$seconds" -seed="${ATMO_FUZZ_SEED:-1}")
 fi
 "$fuzzer" "${limit[@]}" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
           -artifact_prefix="$artifacts/" "$work"
