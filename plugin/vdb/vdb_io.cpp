@@ -284,12 +284,17 @@ class ChunkCheck {
 
   std::string at(size_t byte) const { return "at byte " + num(byte) + " of grid " + quoted(grid_); }
 
-  void skip(uint64_t bytes, const char* what) {
+  // Throws unless `bytes` more are left.
+  void require(uint64_t bytes, const char* what) const {
     if (bytes > in_.buf.remaining()) {
       throw ReadError("truncated or corrupt: " + std::string(what) + " of " + num(bytes) + " bytes " +
                       at(in_.buf.position()) + " runs past the end of the data (" + num(in_.buf.size()) +
                       " bytes)");
     }
+  }
+
+  void skip(uint64_t bytes, const char* what) {
+    require(bytes, what);
     in_.is.seekg(static_cast<std::streamoff>(bytes), std::ios_base::cur);
   }
 
@@ -325,7 +330,7 @@ class ChunkCheck {
         skip(expected, "a node's values");
         return;
       }
-      if (expected > in_.buf.remaining()) skip(expected, "a node's values");  // throws
+      require(expected, "a node's values");
       values.resize(expected);
       in_.is.read(values.data(), static_cast<std::streamsize>(expected));
       check_booleans();
@@ -621,7 +626,7 @@ DenseLayout plan_dense_grid(const GridT& grid, uint64_t max_voxels, const std::s
   l.bbox = grid.evalActiveVoxelBoundingBox();
   for (int a = 0; a < 3; ++a) l.dims[a] = int64_t{l.bbox.max()[a]} - l.bbox.min()[a] + 1;
   // fits() is monotone in f, and f = max(dims) fits (3^3 voxels): the least f
-  // by doubling, then bisection (a thin box 2^32 voxels long took 1e9 steps
+  // by doubling, then bisection (a thin box 2^30 voxels long took 1e9 steps
   // one at a time; found by fuzz/vdb_fuzz.cpp).
   int64_t lo = 0, hi = 1;  // fits(lo) false (f = 0 is no factor), fits(hi) to be found
   const int64_t longest = std::max({l.dims[0], l.dims[1], l.dims[2], int64_t{1}});
@@ -634,6 +639,7 @@ DenseLayout plan_dense_grid(const GridT& grid, uint64_t max_voxels, const std::s
     if (fits(l.dims, mid, max_voxels, l.n)) hi = mid; else lo = mid;
   }
   l.f = hi;
+  // Also sets l.n for this f (the last call may have been a failed mid).
   if (!fits(l.dims, l.f, max_voxels, l.n)) throw ReadError(where + ": no downsampling fits max_voxels " + num(max_voxels));
   return l;
 }
@@ -715,7 +721,8 @@ void finish_values(const ValueStats& s, const DenseLayout& l, double voxel_size,
                     coord_str(s.first_nan) + ")");
   }
   if (l.f > 1) {
-    for (float& v : dense->values) v = static_cast<float>(static_cast<double>(v) / (static_cast<double>(l.f) * l.f * l.f));
+    const double fine_per_coarse = static_cast<double>(l.f) * l.f * l.f;
+    for (float& v : dense->values) v = static_cast<float>(static_cast<double>(v) / fine_per_coarse);
     const double vs_m = voxel_size * options.metres_per_unit;
     warnings->push_back(label + ": " + num(l.dims[0]) + "x" + num(l.dims[1]) + "x" + num(l.dims[2]) +
                         " active voxels exceed max_voxels " + num(options.max_voxels) + ": downsampled by " +
