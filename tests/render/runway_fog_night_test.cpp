@@ -135,10 +135,9 @@ const Scene& scene() {
     }
     // atmo render's glow threshold, 1/2000 of the camera's white at its EV100 (the camera's own, else the
     // scenario's; this scenario gives one, so the automatic exposure from the Sun is not needed).
-    const std::optional<double> ev100 = s->scenario.cameras[0].exposure_ev100 ? s->scenario.cameras[0].exposure_ev100
-                                                                             : s->scenario.render.exposure_ev100;
+    const std::optional<double> ev100 = atmo::render::set_exposure_ev100_of(s->scenario, 0);
     if (!ev100) throw std::runtime_error("runway_fog_night.json: no exposure_ev100");
-    s->glow_threshold = 1.0 / (2000.0 * hs::exposure_scale_from_ev100(*ev100));
+    s->glow_threshold = atmo::render::glow_threshold_cd_m2_of(hs::exposure_scale_from_ev100(*ev100));
     std::string error;
     if (!atmo::support::read_exr(ATMO_RUNWAY_FOG_NIGHT_EXR, &s->image, &error)) throw std::runtime_error(error);
     return s;

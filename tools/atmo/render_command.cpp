@@ -159,7 +159,7 @@ void set_fog(const sc::Scenario& scenario, atmo::Context& context) {
 void set_lights(const sc::Scenario& scenario, const hs::Terrain& terrain, double exposure, atmo::Context& context) {
   if (!scenario.lights) return;
   const std::vector<AtmoLightPoint> points = light_points_of(scenario, terrain);
-  context.set_lights(hs::lights_state_enu(origin_of(scenario), points, 1.0 / (2000.0 * exposure)));
+  context.set_lights(hs::lights_state_enu(origin_of(scenario), points, glow_threshold_cd_m2_of(exposure)));
 }
 
 int run_render(const Options& options) {
@@ -223,9 +223,7 @@ int run_render(const Options& options) {
 
       const AtmoLighting lighting = view.lighting();
       const double sun_elevation_deg = glm::degrees(lighting.sun_elevation_rad);
-      const double ev100 = cam.exposure_ev100            ? *cam.exposure_ev100
-                           : scenario.render.exposure_ev100 ? *scenario.render.exposure_ev100
-                                                            : sc::auto_exposure_ev100(sun_elevation_deg);
+      const double ev100 = set_exposure_ev100_of(scenario, ci).value_or(sc::auto_exposure_ev100(sun_elevation_deg));
       const double exposure = hs::exposure_scale_from_ev100(ev100);
       if (scenario.render.output == sc::OutputEncoding::DisplaySrgb) {
         setup.output_encoding = ATMO_OUTPUT_DISPLAY_SRGB;

@@ -72,4 +72,11 @@ hs::ViewSetup view_setup_of(const sc::Scenario& s, size_t ci, hs::DepthConventio
   return setup;
 }
 
+std::optional<double> set_exposure_ev100_of(const scenario::Scenario& s, size_t ci) {
+  const std::optional<double>& own = s.cameras.at(ci).exposure_ev100;
+  return own ? own : s.render.exposure_ev100;
+}
+
+double glow_threshold_cd_m2_of(double exposure_scale) { return 1.0 / (2000.0 * exposure_scale); }
+
 }  // namespace atmo::render

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "atmo/atmo.h"
@@ -31,6 +32,14 @@ std::vector<AtmoLightPoint> light_points_of(const scenario::Scenario& s, const h
 // set_fog's state: the file's visibility, and its top (above the ENU origin)
 // as a height above the ellipsoid. Only meaningful when s.fog is set.
 AtmoFogState fog_state_of(const scenario::Scenario& s);
+
+// Camera `ci`'s exposure as set in the file: its own EV100, else the
+// scenario's; none means automatic (scenario::auto_exposure_ev100 of the Sun).
+std::optional<double> set_exposure_ev100_of(const scenario::Scenario& s, size_t ci);
+
+// The glow threshold `atmo render` passes to set_lights: 1/2000 of the camera's
+// white (the luminance that maps to 1 at this exposure scale), cd/m^2.
+double glow_threshold_cd_m2_of(double exposure_scale);
 
 // Camera `ci`'s view: pose in ENU at origin_of(s), field of view, near/far,
 // the whole target as viewport; no depth texture, linear HDR output, exposure 1.
