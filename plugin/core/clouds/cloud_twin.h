@@ -11,6 +11,10 @@ namespace atmo::clouds {
 // texture (density, tau_light, tau_up, tau_down) as dense grids.
 struct CpuCloudVolume;
 glm::vec4 fetch_cloud_volume(const CpuCloudVolume& v, const glm::vec3& index_point);
+// The layer march's clipmap on the CPU (cloud_clipmap.h).
+struct CpuCloudLayer;
+glm::vec4 fetch_cloud_layer_a(const CpuCloudLayer& v, int level, const glm::vec3& index_point);
+glm::vec2 fetch_cloud_layer_b(const CpuCloudLayer& v, int level, const glm::vec3& index_point);
 }  // namespace atmo::clouds
 
 namespace atmo::clouds::twin {
@@ -23,6 +27,20 @@ inline vec4 cloud_fetch(const CpuCloudVolume& v, const vec3& p) { return fetch_c
 #include "clouds/cloud_functions.glsl"
 #include "clouds/cloud_march.glsl"
 #undef CLOUD_VOLUME
+#define CLOUD_LAYER CpuCloudLayer
+inline vec4 cloud_layer_fetch_a(const CpuCloudLayer& v, int level, const vec3& q) {
+  return fetch_cloud_layer_a(v, level, q);
+}
+inline vec2 cloud_layer_fetch_b(const CpuCloudLayer& v, int level, const vec3& q) {
+  return fetch_cloud_layer_b(v, level, q);
+}
+// No air on the CPU: the twin's radiance is the clouds' own.
+inline void cloud_layer_air(float, vec3& inscatter, vec3& transmittance) {
+  inscatter = vec3(0.0f);
+  transmittance = vec3(1.0f);
+}
+#include "clouds/cloud_layer_march.glsl"
+#undef CLOUD_LAYER
 #include "core/twin/glsl_end.h"
 
 }  // namespace atmo::clouds::twin

@@ -1,0 +1,340 @@
+#include "core/clouds/cloud_clipmap.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/clouds/cloud_optics.h"
+#include "core/clouds/cloud_twin.h"
+
+namespace atmo::clouds {
+namespace {
+
+// Voxels over all levels (12 bytes each on the GPU: RGBA16F + RG16F): level
+// 0's voxel grows until they fit (192 MiB).
+constexpr double kMaxClipmapVoxels = 16.0 * (1 << 20);
+
+// A mip's five premultiplied terms trilinearly at an index point (zero outside).
+struct Terms {
+  glm::vec4 a{0.0f};
+  float back = 0.0f;
+  Terms& operator+=(const Terms& o) {
+    a += o.a;
+    back += o.back;
+    return *this;
+  }
+  friend Terms operator*(float w, const Terms& t) { return Terms{w * t.a, w * t.back}; }
+  explicit Terms(float v = 0.0f) : a(v), back(v) {}
+  Terms(const glm::vec4& x, float y) : a(x), back(y) {}
+};
+
+Terms sample_mip(const PrototypeMips::Mip& m, const glm::vec3& q) {
+  return trilinear_zero_border<Terms>(m.nx, m.ny, m.nz, q, [&](int x, int y, int z) {
+    const size_t i = (static_cast<size_t>(z) * m.ny + y) * m.nx + x;
+    return Terms(m.terms[i], m.tau_back[i]);
+  });
+}
+
+PrototypeMips::Mip half_of(const PrototypeMips::Mip& f) {
+  PrototypeMips::Mip h;
+  h.nx = (f.nx + 1) / 2, h.ny = (f.ny + 1) / 2, h.nz = (f.nz + 1) / 2;
+  h.terms.assign(static_cast<size_t>(h.nx) * h.ny * h.nz, glm::vec4(0.0f));
+  h.tau_back.assign(h.terms.size(), 0.0f);
+  for (int z = 0; z < h.nz; ++z)
+    for (int y = 0; y < h.ny; ++y)
+      for (int x = 0; x < h.nx; ++x) {
+        glm::vec4 a(0.0f);
+        float b = 0.0f;
+        for (int c = 0; c < 8; ++c) {
+          const int fx = 2 * x + (c & 1), fy = 2 * y + ((c >> 1) & 1), fz = 2 * z + ((c >> 2) & 1);
+          if (fx >= f.nx || fy >= f.ny || fz >= f.nz) continue;  // outside: zero density, zero terms
+          const size_t i = (static_cast<size_t>(fz) * f.ny + fy) * f.nx + fx;
+          a += f.terms[i];
+          b += f.tau_back[i];
+        }
+        const size_t o = (static_cast<size_t>(z) * h.ny + y) * h.nx + x;
+        h.terms[o] = a * 0.125f;
+        h.tau_back[o] = b * 0.125f;
+      }
+  return h;
+}
+
+void field_bounds(const CloudField& field, glm::dvec3* lo, glm::dvec3* hi) {
+  *lo = glm::dvec3(std::numeric_limits<double>::max());
+  *hi = -*lo;
+  for (const CloudInstance& inst : field.instances) {
+    const CloudVolume& v = field.prototypes[static_cast<size_t>(inst.prototype)];
+    const glm::dvec3 e = v.extent_m();
+    for (int c = 0; c < 8; ++c) {
+      const glm::dvec3 corner = inst.origin_enu_m + v.rotation * glm::dvec3(c & 1 ? e.x : 0.0, c & 2 ? e.y : 0.0,
+                                                                              c & 4 ? e.z : 0.0);
+      *lo = glm::min(*lo, corner);
+      *hi = glm::max(*hi, corner);
+    }
+  }
+}
+
+// Levels until one centred at `centre` holds the whole field (less its
+// 2-voxel margins), or spec.max_levels.
+int levels_needed(const CloudField& field, const ClipmapSpec& spec, double base_m, const glm::dvec2& centre) {
+  glm::dvec3 lo, hi;
+  field_bounds(field, &lo, &hi);
+  const double reach = std::max({centre.x - lo.x, hi.x - centre.x, centre.y - lo.y, hi.y - centre.y});
+  int n = 1;
+  while (n < spec.max_levels && (0.5 * spec.size - 3.0) * base_m * std::ldexp(1.0, n - 1) < reach) ++n;
+  return n;
+}
+
+double voxels_for(const CloudField& field, const ClipmapSpec& spec, double base_m) {
+  glm::dvec3 lo, hi;
+  field_bounds(field, &lo, &hi);
+  double total = 0.0;
+  // The most levels any centre over the field needs: one centred at a corner.
+  const int n = levels_needed(field, spec, base_m, glm::dvec2(lo));
+  for (int l = 0; l < n; ++l)
+    total += double(spec.size) * spec.size * (std::ceil((hi.z - lo.z) / std::ldexp(base_m, l)) + 2.0);
+  return total;
+}
+
+}  // namespace
+
+size_t CloudClipmap::memory_bytes() const {
+  size_t b = 0;
+  for (const ClipmapLevel& l : levels) b += l.a.size() * sizeof(glm::vec4) + l.b.size() * sizeof(glm::vec2);
+  return b;
+}
+
+InstanceBuckets bucket_instances(const CloudField& field) {
+  InstanceBuckets out;
+  const size_t n = field.instances.size();
+  out.box_min.resize(n);
+  out.box_max.resize(n);
+  glm::dvec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  double widest = 1.0;
+  for (size_t i = 0; i < n; ++i) {
+    const CloudInstance& inst = field.instances[i];
+    const CloudVolume& v = field.prototypes[static_cast<size_t>(inst.prototype)];
+    glm::dvec3 a(std::numeric_limits<double>::max()), b(-std::numeric_limits<double>::max());
+    const glm::dvec3 e = v.extent_m();
+    for (int c = 0; c < 8; ++c) {
+      const glm::dvec3 corner = inst.origin_enu_m + v.rotation * glm::dvec3(c & 1 ? e.x : 0.0, c & 2 ? e.y : 0.0,
+                                                                              c & 4 ? e.z : 0.0);
+      a = glm::min(a, corner);
+      b = glm::max(b, corner);
+    }
+    out.box_min[i] = a, out.box_max[i] = b;
+    lo = glm::min(lo, glm::dvec2(a)), hi = glm::max(hi, glm::dvec2(b));
+    widest = std::max({widest, b.x - a.x, b.y - a.y});
+  }
+  if (n == 0) return out;
+  // Buckets as wide as the widest box, at most 1024 a side.
+  out.bucket_m = std::max(widest, std::max(hi.x - lo.x, hi.y - lo.y) / 1024.0);
+  out.min_m = lo;
+  out.nx = std::max(1, static_cast<int>(std::ceil((hi.x - lo.x) / out.bucket_m)));
+  out.ny = std::max(1, static_cast<int>(std::ceil((hi.y - lo.y) / out.bucket_m)));
+  out.cells.resize(static_cast<size_t>(out.nx) * out.ny);
+  for (size_t i = 0; i < n; ++i) {
+    const int x0 = std::clamp(static_cast<int>((out.box_min[i].x - lo.x) / out.bucket_m), 0, out.nx - 1);
+    const int x1 = std::clamp(static_cast<int>((out.box_max[i].x - lo.x) / out.bucket_m), 0, out.nx - 1);
+    const int y0 = std::clamp(static_cast<int>((out.box_min[i].y - lo.y) / out.bucket_m), 0, out.ny - 1);
+    const int y1 = std::clamp(static_cast<int>((out.box_max[i].y - lo.y) / out.bucket_m), 0, out.ny - 1);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) out.cells[static_cast<size_t>(y) * out.nx + x].push_back(static_cast<uint32_t>(i));
+  }
+  return out;
+}
+
+std::vector<PrototypeMips> build_prototype_mips(const CloudField& field, const std::vector<LightDepths>& depths,
+                                                const glm::dvec3& light_dir_enu) {
+  std::vector<PrototypeMips> out(field.prototypes.size());
+  for (size_t p = 0; p < field.prototypes.size(); ++p) {
+    const CloudVolume& v = field.prototypes[p];
+    const DenseGrid& g = v.density;
+    const LightDepths& d = depths[p];
+    PrototypeMips::Mip m;
+    m.nx = g.nx, m.ny = g.ny, m.nz = g.nz;
+    m.terms.resize(g.voxel_count());
+    m.tau_back.resize(g.voxel_count());
+    // tau_back at each voxel centre as the per-cloud march takes it (cloud_march.glsl).
+    twin::CloudMarch march{};
+    march.grid_size = glm::vec3(g.nx, g.ny, g.nz);
+    march.light_dir_grid = grid_direction(v, light_dir_enu);
+    march.continuing_sides = continuing_sides_vector(d.sides);
+    const CpuCloudVolume vol{&g, &d};
+    for (int z = 0; z < g.nz; ++z)
+      for (int y = 0; y < g.ny; ++y)
+        for (int x = 0; x < g.nx; ++x) {
+          const size_t i = g.index(x, y, z);
+          const float rho = g.values[i];
+          const glm::vec3& tau = d.tau[i];
+          float back = 0.0f;
+          if (rho > 0.0f) {
+            const glm::vec3 point(x + 0.5f, y + 0.5f, z + 0.5f);
+            const glm::vec2 hit = twin::cloud_box_hit(point, -march.light_dir_grid, march.grid_size);
+            const glm::vec3 exit = point - march.light_dir_grid * hit.y;
+            const glm::vec3 far_point = glm::clamp(exit, glm::vec3(0.5f), march.grid_size - glm::vec3(0.5f));
+            back = std::max(std::max(fetch_cloud_volume(vol, far_point).y - tau.x, 0.0f),
+                            twin::cloud_depth_beyond_side(march, exit, tau.y, tau.z));
+          }
+          m.terms[i] = glm::vec4(rho, rho * tau.x, rho * tau.y, rho * tau.z);
+          m.tau_back[i] = rho * back;
+        }
+    out[p].mips.push_back(std::move(m));
+    while (out[p].mips.back().nx > 1 || out[p].mips.back().ny > 1 || out[p].mips.back().nz > 1)
+      out[p].mips.push_back(half_of(out[p].mips.back()));
+  }
+  return out;
+}
+
+double clipmap_base_voxel_m(const CloudField& field, const ClipmapSpec& spec) {
+  double base = spec.base_voxel_m;
+  if (!(base > 0.0)) {
+    base = std::numeric_limits<double>::max();
+    for (const CloudVolume& v : field.prototypes) base = std::min(base, double(v.voxel_size_m));
+    if (field.prototypes.empty()) base = 50.0;
+  }
+  while (voxels_for(field, spec, base) > kMaxClipmapVoxels) base *= 1.25;
+  return base;
+}
+
+glm::ivec2 clipmap_cell(const CloudField& field, const ClipmapSpec& spec, const glm::dvec3& eye_m) {
+  const double cell_m = 0.25 * spec.size * clipmap_base_voxel_m(field, spec);
+  return glm::ivec2(static_cast<int>(std::floor(eye_m.x / cell_m)), static_cast<int>(std::floor(eye_m.y / cell_m)));
+}
+
+CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeMips>& mips,
+                           const InstanceBuckets& buckets, const ClipmapSpec& spec, const glm::ivec2& cell) {
+  CloudClipmap out;
+  out.cell = cell;
+  if (field.instances.empty()) return out;
+  glm::dvec3 lo, hi;
+  field_bounds(field, &lo, &hi);
+  out.bottom_m = lo.z, out.top_m = hi.z;
+  out.field_min_m = glm::dvec2(lo), out.field_max_m = glm::dvec2(hi);
+  const double base = clipmap_base_voxel_m(field, spec);
+  const double cell_m = 0.25 * spec.size * base;
+  const glm::dvec2 centre = (glm::dvec2(cell) + 0.5) * cell_m;
+  const int n_levels = levels_needed(field, spec, base, centre);
+  // An instance as one level samples it: its mip, and index space from the clouds' frame.
+  struct Placed {
+    const PrototypeMips::Mip* mip;
+    glm::dmat3 index_from_enu;
+    glm::dvec3 origin;
+    double z0, z1;
+    float extinction, droplet_um;
+  };
+  std::vector<Placed> placed(field.instances.size());
+  std::vector<Placed> column;
+  for (int l = 0; l < n_levels; ++l) {
+    ClipmapLevel L;
+    L.voxel_m = std::ldexp(base, l);
+    const double v = L.voxel_m;
+    for (size_t i = 0; i < field.instances.size(); ++i) {
+      const CloudInstance& inst = field.instances[i];
+      const CloudVolume& vol = field.prototypes[static_cast<size_t>(inst.prototype)];
+      const PrototypeMips& pm = mips[static_cast<size_t>(inst.prototype)];
+      // The mip whose voxel is nearest the level's (the box filter that level needs).
+      const int mip = std::clamp(static_cast<int>(std::lround(std::log2(v / vol.voxel_size_m))), 0,
+                                 static_cast<int>(pm.mips.size()) - 1);
+      placed[i] = {&pm.mips[static_cast<size_t>(mip)],
+                   glm::mat3_cast(glm::inverse(vol.rotation)) / (double(vol.voxel_size_m) * std::ldexp(1.0, mip)),
+                   inst.origin_enu_m, buckets.box_min[i].z - v, buckets.box_max[i].z + v,
+                   vol.optics.extinction_per_m, vol.optics.droplet_diameter_um};
+    }
+    L.nx = L.ny = spec.size;
+    L.nz = static_cast<int>(std::ceil((hi.z - lo.z) / v)) + 2;
+    // Corners on multiples of the voxel: the levels' lattices nest.
+    L.origin_m = glm::dvec3(std::floor((centre.x - 0.5 * spec.size * v) / v) * v,
+                            std::floor((centre.y - 0.5 * spec.size * v) / v) * v, lo.z - v);
+    L.a.assign(static_cast<size_t>(L.nx) * L.ny * L.nz, glm::vec4(0.0f));
+    L.b.assign(L.a.size(), glm::vec2(0.0f));
+    for (int y = 0; y < L.ny; ++y)
+      for (int x = 0; x < L.nx; ++x) {
+        const glm::dvec2 p(L.origin_m.x + (x + 0.5) * v, L.origin_m.y + (y + 0.5) * v);
+        const int bx = static_cast<int>(std::floor((p.x - buckets.min_m.x) / buckets.bucket_m));
+        const int by = static_cast<int>(std::floor((p.y - buckets.min_m.y) / buckets.bucket_m));
+        if (bx < 0 || by < 0 || bx >= buckets.nx || by >= buckets.ny) continue;
+        // The instances whose box covers the column, give or take a voxel (trilinear reach).
+        column.clear();
+        for (uint32_t i : buckets.cells[static_cast<size_t>(by) * buckets.nx + bx])
+          if (p.x >= buckets.box_min[i].x - v && p.x <= buckets.box_max[i].x + v &&
+              p.y >= buckets.box_min[i].y - v && p.y <= buckets.box_max[i].y + v)
+            column.push_back(placed[i]);
+        if (column.empty()) continue;
+        for (int z = 0; z < L.nz; ++z) {
+          const double height = L.origin_m.z + (z + 0.5) * v;
+          glm::vec4 a(0.0f);
+          glm::vec2 b(0.0f);
+          for (const Placed& c : column) {
+            if (height < c.z0 || height > c.z1) continue;
+            const glm::vec3 q(c.index_from_enu * (glm::dvec3(p, height) - c.origin));
+            const Terms t = sample_mip(*c.mip, q);
+            if (t.a.x <= 0.0f) continue;
+            a += c.extinction * t.a;
+            b += glm::vec2(c.extinction * t.back, c.extinction * c.droplet_um * t.a.x);
+          }
+          L.a[L.index(x, y, z)] = a;
+          L.b[L.index(x, y, z)] = b;
+        }
+      }
+    out.levels.push_back(std::move(L));
+  }
+  return out;
+}
+
+twin::CloudLayerMarch make_layer_march(const CloudField& field, const CloudClipmap& clipmap, const glm::dvec3& eye_m,
+                                       const CloudLight& light, float step_voxels, int max_steps) {
+  twin::CloudLayerMarch m{};
+  m.level_count = std::min(static_cast<int>(clipmap.levels.size()), CLOUD_LAYER_MAX_LEVELS);
+  int slice = 0;
+  for (int l = 0; l < m.level_count; ++l) {
+    const ClipmapLevel& L = clipmap.levels[static_cast<size_t>(l)];
+    m.level_origin[l] = glm::vec4(glm::vec3(L.origin_m - eye_m), static_cast<float>(L.voxel_m));
+    m.level_dims[l] = glm::vec4(L.nx, L.ny, L.nz, slice);
+    slice += L.nz;
+  }
+  // The field's droplet diameters, ascending, at most the table's size.
+  std::vector<float> um;
+  m.albedo = 1.0f;
+  for (const CloudVolume& v : field.prototypes) {
+    um.push_back(std::clamp(v.optics.droplet_diameter_um, 5.0f, 50.0f));
+    m.albedo = std::min(m.albedo, v.optics.albedo);
+  }
+  if (um.empty()) um.push_back(20.0f);
+  std::sort(um.begin(), um.end());
+  um.erase(std::unique(um.begin(), um.end()), um.end());
+  while (um.size() > CLOUD_LAYER_PHASES) um.erase(um.begin() + 1);  // keep the ends
+  m.phase_count = static_cast<int>(um.size());
+  for (int i = 0; i < m.phase_count; ++i) {
+    const twin::CloudPhase ph = phase_for_droplet(um[static_cast<size_t>(i)]);
+    m.phases[i] = glm::vec4(ph.g_hg, ph.g_draine, ph.alpha_draine, ph.w_draine);
+    m.phase_um[i] = um[static_cast<size_t>(i)];
+  }
+  m.bottom_m = static_cast<float>(clipmap.bottom_m - eye_m.z);
+  m.top_m = static_cast<float>(clipmap.top_m - eye_m.z);
+  m.step_voxels = step_voxels;
+  m.max_steps = max_steps;
+  m.light_illuminance = glm::vec3(light.illuminance_lux);
+  m.light_dir = glm::vec3(glm::normalize(light.direction_enu));
+  m.sky_radiance = glm::vec3(light.sky_radiance);
+  m.ground_radiance = glm::vec3(light.ground_radiance);
+  return m;
+}
+
+twin::CloudLayerSample march_layer_ray(const CloudClipmap& clipmap, const twin::CloudLayerMarch& march,
+                                       const twin::CloudOctaves& octaves, const glm::dvec3& dir, double t_max_m) {
+  const CpuCloudLayer layer{&clipmap};
+  return twin::cloud_layer_march(layer, march, octaves, glm::vec3(glm::normalize(dir)), static_cast<float>(t_max_m));
+}
+
+glm::vec4 fetch_cloud_layer_a(const CpuCloudLayer& v, int level, const glm::vec3& q) {
+  const ClipmapLevel& L = v.clipmap->levels[static_cast<size_t>(level)];
+  return trilinear_zero_border<glm::vec4>(L.nx, L.ny, L.nz, q, [&](int x, int y, int z) { return L.a[L.index(x, y, z)]; });
+}
+
+glm::vec2 fetch_cloud_layer_b(const CpuCloudLayer& v, int level, const glm::vec3& q) {
+  const ClipmapLevel& L = v.clipmap->levels[static_cast<size_t>(level)];
+  return trilinear_zero_border<glm::vec2>(L.nx, L.ny, L.nz, q, [&](int x, int y, int z) { return L.b[L.index(x, y, z)]; });
+}
+
+}  // namespace atmo::clouds

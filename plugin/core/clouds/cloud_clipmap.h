@@ -1,0 +1,101 @@
+// cloud_clipmap.h — the whole cloud field resampled around the eye, for the
+// layer march (shaders/clouds/cloud_layer_march.glsl): nested levels of one
+// lattice each, voxels doubling from level to level, so one march per pixel
+// through every layer costs steps, not clouds. Each level voxel holds what the
+// per-cloud march fetches, summed over the instances that cover it:
+//   a = (sigma_t, sigma_t tau_light, sigma_t tau_up, sigma_t tau_down)
+//   b = (sigma_t tau_back, sigma_t droplet_um)
+// premultiplied by the extinction (1/m), so trilinear filtering weighs each
+// instance's depths by its density and overlapping instances (a deck's tiles)
+// give the density-weighted mean of their depths; tau_back (the depth behind
+// the point away from the light) is taken per prototype voxel, as the march
+// computes it. Coarse levels sample box-filtered mips of the prototypes.
+// Pure CPU, no GL; deterministic: a level's content is a function of the
+// field, its light grids and the eye's lattice cell (never of the history).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/clouds/cloud_field.h"
+#include "core/clouds/cloud_lighting.h"
+
+namespace atmo::clouds {
+
+struct ClipmapSpec {
+  int size = 192;             // voxels across each level (even), x and y
+  int max_levels = 9;         // levels stop at this count or when one covers the field
+  float base_voxel_m = 0.0f;  // level 0's voxel; 0: the finest prototype voxel
+};
+
+struct ClipmapLevel {
+  double voxel_m = 0.0;         // voxel edge, m (cubes)
+  glm::dvec3 origin_m{0.0};     // the clouds' frame: corner of voxel (0, 0, 0)
+  int nx = 0, ny = 0, nz = 0;   // nz includes one empty voxel below and above the field
+  std::vector<glm::vec4> a;     // see above, x fastest then y then z
+  std::vector<glm::vec2> b;
+  size_t index(int x, int y, int z) const { return (static_cast<size_t>(z) * ny + y) * nx + x; }
+};
+
+// A prototype's box-filtered mips of (density, tau_light, tau_up, tau_down)
+// and tau_back, level 0 the prototype itself: built per light direction.
+struct PrototypeMips {
+  struct Mip {
+    int nx = 0, ny = 0, nz = 0;
+    std::vector<glm::vec4> terms;  // density, tau_light, tau_up, tau_down
+    std::vector<float> tau_back;
+  };
+  std::vector<Mip> mips;
+};
+
+// 2D buckets of the instances' boxes (clouds' frame), so a point finds the
+// few instances that may cover it: built once per field, O(instances).
+struct InstanceBuckets {
+  glm::dvec2 min_m{0.0};
+  double bucket_m = 1.0;
+  int nx = 0, ny = 0;
+  std::vector<std::vector<uint32_t>> cells;
+  std::vector<glm::dvec3> box_min, box_max;  // per instance
+};
+
+struct CloudClipmap {
+  std::vector<ClipmapLevel> levels;
+  double bottom_m = 0.0, top_m = 0.0;   // the field's boxes' lowest and highest height
+  glm::dvec2 field_min_m{0.0}, field_max_m{0.0};
+  glm::ivec2 cell{0};                    // the eye's lattice cell the levels were centred for
+  size_t memory_bytes() const;
+};
+
+InstanceBuckets bucket_instances(const CloudField& field);
+// Mips per prototype for the current light grids (depths[p] per prototype).
+std::vector<PrototypeMips> build_prototype_mips(const CloudField& field, const std::vector<LightDepths>& depths,
+                                                const glm::dvec3& light_dir_enu);
+
+// The lattice cell the eye is in: the levels are centred on it, so the
+// clipmap changes only when the eye crosses into another cell (a quarter of
+// level 0's width), and two views whose eyes share a cell share it.
+glm::ivec2 clipmap_cell(const CloudField& field, const ClipmapSpec& spec, const glm::dvec3& eye_m);
+double clipmap_base_voxel_m(const CloudField& field, const ClipmapSpec& spec);
+
+// Builds every level centred on `cell`. O(levels x size^2 x nz x instances per bucket).
+CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeMips>& mips,
+                           const InstanceBuckets& buckets, const ClipmapSpec& spec, const glm::ivec2& cell);
+
+// The march's volume on the CPU (cloud_layer_march.glsl's CLOUD_LAYER).
+struct CpuCloudLayer {
+  const CloudClipmap* clipmap = nullptr;
+};
+
+// The layer march's inputs for an eye (the clouds' frame, m): the levels
+// relative to the eye, the field's droplet phases, the light.
+twin::CloudLayerMarch make_layer_march(const CloudField& field, const CloudClipmap& clipmap, const glm::dvec3& eye_m,
+                                       const CloudLight& light, float step_voxels, int max_steps);
+
+// The C++ twin of the GLSL layer march (no air): a ray from the eye along unit dir to t_max_m.
+twin::CloudLayerSample march_layer_ray(const CloudClipmap& clipmap, const twin::CloudLayerMarch& march,
+                                       const twin::CloudOctaves& octaves, const glm::dvec3& dir, double t_max_m);
+
+}  // namespace atmo::clouds

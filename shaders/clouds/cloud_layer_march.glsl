@@ -1,0 +1,206 @@
+// cloud_layer_march.glsl — one view ray through every cloud of the scene at
+// once, over the clipmap of core/clouds/cloud_clipmap.h: ONE source for the
+// GLSL layer pass (clouds_layer.frag) and the C++ twin (cloud_twin.h). Its
+// cost is its steps (at most max_steps), not the number of clouds. Needs
+// cloud_functions.glsl and, from the includer:
+//   CLOUD_LAYER, the clipmap's storage (a sampler3D in GLSL, the levels on the CPU);
+//   vec4 cloud_layer_fetch_a(IN(CLOUD_LAYER) v, int level, IN(vec3) q) and
+//   vec2 cloud_layer_fetch_b(IN(CLOUD_LAYER) v, int level, IN(vec3) q):
+//     the level's premultiplied terms trilinearly at level index point q
+//     (voxel centres at integer + 0.5);
+//   void cloud_layer_air(float depth_m, OUT(vec3) inscatter, OUT(vec3) transmittance):
+//     the air between the eye and a cloud at that distance (the aerial
+//     perspective; none on the CPU).
+// Positions are metres from the eye in the clouds' ENU axes.
+
+#define CLOUD_LAYER_MAX_LEVELS 10
+#define CLOUD_LAYER_PHASES 8
+
+struct CloudLayerMarch {
+  int level_count;
+  vec4 level_origin[CLOUD_LAYER_MAX_LEVELS];  // xyz: corner of the level's voxel (0, 0, 0), m from the eye; w: voxel m
+  vec4 level_dims[CLOUD_LAYER_MAX_LEVELS];    // voxels along x, y, z; w: the level's first slice in the GL texture
+  vec4 phases[CLOUD_LAYER_PHASES];            // CloudPhase (g_hg, g_draine, alpha_draine, w_draine) at ...
+  float phase_um[CLOUD_LAYER_PHASES];         // ... these droplet diameters (um, ascending): the field's own
+  int phase_count;                            // >= 1
+  float bottom_m;                             // the field's lowest and highest height, m relative to the eye
+  float top_m;
+  float step_voxels;                          // dense step, voxels of the level at the point
+  int max_steps;                              // the budget: steps lengthen so the ray ends within it
+  float albedo;
+  vec3 light_illuminance;                     // lux on a surface facing the light
+  vec3 light_dir;                             // unit, towards the light
+  vec3 sky_radiance;                          // cd/m^2
+  vec3 ground_radiance;                       // cd/m^2
+};
+
+struct CloudLayerSample {
+  vec3 radiance;        // cd/m^2 towards the eye, through the air (background excluded)
+  float transmittance;  // of the background
+  float depth_m;        // opacity-weighted mean distance of the clouds (t_max when none)
+  int steps;            // steps taken (cost)
+};
+
+// The finest level holding point p (2 voxels in from its sides), -1 when none.
+ATMO_FN int cloud_layer_level_at(IN(CloudLayerMarch) m, IN(vec3) p) {
+  for (int l = 0; l < m.level_count; ++l) {
+    vec2 q = (vec2(p.x, p.y) - vec2(m.level_origin[l].x, m.level_origin[l].y)) / m.level_origin[l].w;
+    if (q.x >= 2.0f && q.y >= 2.0f && q.x <= m.level_dims[l].x - 2.0f && q.y <= m.level_dims[l].y - 2.0f) return l;
+  }
+  return -1;
+}
+
+// Level l's index point at p; heights clamped into the level's slab (its
+// empty first and last slices), so a fetch never reads a neighbouring level.
+ATMO_FN vec3 cloud_layer_index(IN(CloudLayerMarch) m, int l, IN(vec3) p) {
+  vec3 q = (p - vec3(m.level_origin[l].x, m.level_origin[l].y, m.level_origin[l].z)) / m.level_origin[l].w;
+  q.z = clamp(q.z, 0.5f, m.level_dims[l].z - 0.5f);
+  return q;
+}
+
+// The droplets' phase at a diameter: exact at the field's own diameters,
+// linear between them (where clouds of two kinds overlap).
+ATMO_FN CloudPhase cloud_layer_phase(IN(CloudLayerMarch) m, float droplet_um) {
+  vec4 p = m.phases[0];
+  for (int i = 1; i < m.phase_count; ++i) {
+    if (droplet_um <= m.phase_um[i - 1]) break;
+    float f = clamp((droplet_um - m.phase_um[i - 1]) / max(m.phase_um[i] - m.phase_um[i - 1], 1e-6f), 0.0f, 1.0f);
+    p = m.phases[i - 1] * (1.0f - f) + m.phases[i] * f;
+  }
+  CloudPhase ph;
+  ph.g_hg = p.x;
+  ph.g_draine = p.y;
+  ph.alpha_draine = p.z;
+  ph.w_draine = p.w;
+  return ph;
+}
+
+// The ray from the eye along unit dir, to t_max_m (the host's surface or far).
+// The same lighting as cloud_march (cloud_functions.glsl), its depths read
+// from the clipmap; a cloud's diffuse light still owed is paid where the ray
+// leaves it (a clear step), and each cloud (a run of cloudy steps) takes the
+// air in front of it at its own opacity-weighted depth, as the per-cloud
+// passes do.
+ATMO_FN CloudLayerSample cloud_layer_march(IN(CLOUD_LAYER) vol, IN(CloudLayerMarch) m, IN(CloudOctaves) oc,
+                                           IN(vec3) dir, float t_max_m) {
+  CloudLayerSample s;
+  s.radiance = vec3(0.0f);
+  s.transmittance = 1.0f;
+  s.depth_m = t_max_m;
+  s.steps = 0;
+  if (m.level_count <= 0) return s;
+  // The slab between the field's bottom and top, inside the outermost level.
+  float t0 = 0.0f;
+  float t1 = t_max_m;
+  if (abs(dir.z) > 1e-9f) {
+    float ta = m.bottom_m / dir.z;
+    float tb = m.top_m / dir.z;
+    t0 = max(t0, min(ta, tb));
+    t1 = min(t1, max(ta, tb));
+  } else if (m.bottom_m > 0.0f || m.top_m < 0.0f) {
+    return s;
+  }
+  // Sideways: 2 voxels in from the outermost level's sides; heights: the slab.
+  int outer = m.level_count - 1;
+  float margin = 2.0f * m.level_origin[outer].w;
+  vec3 lo = vec3(m.level_origin[outer].x + margin, m.level_origin[outer].y + margin, m.bottom_m);
+  vec3 hi = vec3(m.level_origin[outer].x + m.level_dims[outer].x * m.level_origin[outer].w - margin,
+                 m.level_origin[outer].y + m.level_dims[outer].y * m.level_origin[outer].w - margin, m.top_m);
+  vec2 box = cloud_box_hit(-lo, dir, hi - lo);
+  t0 = max(t0, box.x);
+  t1 = min(t1, box.y);
+  if (!(t0 < t1)) return s;
+
+  float cos_theta = dot(m.light_dir, dir);
+  float mu = dot(dir, oc.up_grid);
+  float transmittance = 1.0f;
+  vec3 radiance = vec3(0.0f);
+  float depth_sum = 0.0f;
+  float weight_sum = 0.0f;
+  // The cloud being crossed: its radiance relative to its front, its
+  // transmittance, opacity-weighted depth, the diffuse weight still owed.
+  vec3 seg_radiance = vec3(0.0f);
+  float seg_transmittance = 1.0f;
+  float seg_depth = 0.0f;
+  float seg_weight = 0.0f;
+  float owed = 0.0f;
+  vec3 diffuse = vec3(0.0f);
+  bool in_cloud = false;
+  float t = t0;
+  int i = 0;
+  while (t < t1 && i < m.max_steps) {
+    int left = m.max_steps - i;
+    vec3 p = dir * t;
+    int l = cloud_layer_level_at(m, p);
+    if (l < 0) break;
+    float v = m.level_origin[l].w;
+    float dt = min(max(v * m.step_voxels, (t1 - t) / float(left)), t1 - t);
+    // Empty space: where a level two up is clear around the point, so is
+    // every finer voxel within half its voxel (its box filter holds them).
+    int lc = min(l + 2, m.level_count - 1);
+    float clear_reach = 0.5f * m.level_origin[lc].w;
+    vec3 mid = dir * (t + 0.5f * dt);
+    vec4 a = vec4(0.0f);
+    if (lc > l && cloud_layer_fetch_a(vol, lc, cloud_layer_index(m, lc, mid)).x <= 0.0f) {
+      dt = min(max(dt, clear_reach), t1 - t);
+    } else {
+      a = cloud_layer_fetch_a(vol, l, cloud_layer_index(m, l, mid));
+    }
+    ++i;
+    float sigma_t = a.x;
+    if (sigma_t > 1e-7f) {
+      vec2 b = cloud_layer_fetch_b(vol, l, cloud_layer_index(m, l, mid));
+      float inv = 1.0f / sigma_t;
+      float tau_light = a.y * inv;
+      float tau_up = a.z * inv;
+      float tau_down = a.w * inv;
+      float tau_back = b.x * inv;
+      CloudPhase ph = cloud_layer_phase(m, b.y * inv);
+      if (!in_cloud) {
+        in_cloud = true;
+        seg_radiance = vec3(0.0f);
+        seg_transmittance = 1.0f;
+        seg_depth = 0.0f;
+        seg_weight = 0.0f;
+        owed = 0.0f;
+      }
+      float around = cloud_tau_around(tau_light, tau_back, tau_up, tau_down);
+      float multiple = cloud_multiple_share(oc, around);
+      vec3 in_light = m.light_illuminance * cloud_light_octaves(ph, oc, tau_light, cos_theta, multiple);
+      seg_radiance += seg_transmittance * cloud_step_radiance((m.albedo * sigma_t) * in_light, sigma_t, dt);
+      diffuse = (m.light_illuminance * multiple) *
+                    cloud_light_diffusion(oc, tau_light, tau_back, tau_up, tau_down, cos_theta) +
+                cloud_ambient(ph, oc, m.sky_radiance, m.ground_radiance, tau_up, tau_down, around, mu);
+      float step_t = exp(-sigma_t * dt);
+      owed += seg_transmittance * m.albedo * (1.0f - step_t);
+      float share = owed * cloud_lookahead_share(oc, sigma_t * dt);
+      seg_radiance += share * diffuse;
+      owed -= share;
+      float w = seg_transmittance * (1.0f - step_t);
+      seg_depth += w * (t + 0.5f * dt);
+      seg_weight += w;
+      seg_transmittance *= step_t;
+    }
+    t += dt;
+    bool ends = in_cloud && (sigma_t <= 1e-7f || t >= t1 || i >= m.max_steps || seg_transmittance < 1e-4f);
+    if (ends) {
+      // The cloud ends: pay what it owes, put it behind the air in front of it.
+      in_cloud = false;
+      seg_radiance += owed * diffuse;
+      float depth = seg_weight > 0.0f ? seg_depth / seg_weight : t;
+      vec3 air_inscatter;
+      vec3 air_transmittance;
+      cloud_layer_air(depth, air_inscatter, air_transmittance);
+      radiance += transmittance * (seg_radiance * air_transmittance + (1.0f - seg_transmittance) * air_inscatter);
+      depth_sum += transmittance * (1.0f - seg_transmittance) * depth;
+      weight_sum += transmittance * (1.0f - seg_transmittance);
+      transmittance *= seg_transmittance;
+      if (transmittance < 1e-4f) break;
+    }
+  }
+  s.radiance = radiance;
+  s.transmittance = transmittance;
+  s.depth_m = weight_sum > 0.0f ? depth_sum / weight_sum : t_max_m;
+  s.steps = i;
+  return s;
+}

@@ -1,0 +1,190 @@
+// The layer march over the clipmap (core/clouds/cloud_clipmap, the twin of
+// cloud_layer_march.glsl) against the per-cloud march it replaces
+// (march_cloud_ray over every instance the ray meets, composited near to far
+// as clouds_march.frag does): the same lighting model, so what differs is the
+// clipmap's resampling, its coarse far levels and the step budget.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "core/clouds/cloud_clipmap.h"
+#include "core/clouds/cloud_optics.h"
+#include "core/clouds/field_light.h"
+#include "core/clouds/procedural_clouds.h"
+
+namespace {
+
+using namespace atmo::clouds;
+
+struct Scene {
+  CloudField field;
+  std::vector<LightDepths> depths;
+  CloudLight light;
+};
+
+Scene make_scene(CloudLayerType type, int oktas, double base, double top, double area, const glm::dvec3& light_dir) {
+  CloudLayerSpec spec;
+  spec.type = type;
+  spec.coverage_oktas = oktas;
+  spec.base_m = base;
+  spec.top_m = top;
+  spec.area_size_m = area;
+  spec.seed = 11;
+  Scene s;
+  s.field = generate_cloud_layer(spec).field;
+  s.light.direction_enu = glm::normalize(light_dir);
+  s.light.illuminance_lux = glm::dvec3(1.0e5);
+  s.light.sky_radiance = glm::dvec3(6000.0);
+  s.light.ground_radiance = glm::dvec3(1500.0);
+  for (size_t p = 0; p < s.field.prototypes.size(); ++p) {
+    LightDepths d;
+    compute_ambient_depths(s.field.prototypes[p], &d, continuing_sides(s.field, static_cast<int>(p)));
+    compute_light_depth_slices(s.field.prototypes[p], s.light.direction_enu, 0, d.nz, &d);
+    s.depths.push_back(std::move(d));
+  }
+  add_field_light_depths(s.field, s.light.direction_enu, &s.depths);
+  return s;
+}
+
+// The per-cloud reference: every instance whose bounding sphere the ray
+// meets, near to far, over the ones behind (clouds_march.frag without air).
+twin::CloudSample reference_ray(const Scene& s, const glm::dvec3& eye, const glm::dvec3& dir) {
+  struct Hit {
+    double distance;
+    size_t index;
+  };
+  std::vector<Hit> hits;
+  for (size_t i = 0; i < s.field.instances.size(); ++i) {
+    const CloudVolume& v = s.field.prototypes[static_cast<size_t>(s.field.instances[i].prototype)];
+    const glm::dvec3 c = v.centre_at(s.field.instances[i].origin_enu_m) - eye;
+    const double tc = glm::dot(c, dir);
+    const glm::dvec3 closest = c - dir * tc;
+    const double r = v.bounding_radius_m();
+    if (glm::dot(closest, closest) <= r * r && tc + r >= 0.0) hits.push_back({glm::length(c), i});
+  }
+  std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) { return a.distance < b.distance; });
+  const twin::CloudOctaves oc = default_octaves();
+  twin::CloudSample out{glm::vec3(0.0f), 1.0f, 0.0f};
+  for (const Hit& h : hits) {
+    const CloudInstance& inst = s.field.instances[h.index];
+    const CloudVolume& v = s.field.prototypes[static_cast<size_t>(inst.prototype)];
+    const twin::CloudMarch m = make_cloud_march(v, s.light, 0.5f, 4096);
+    CloudVolume copy = v;  // march_cloud_ray takes the grid's placement from the volume
+    copy.origin_enu_m = inst.origin_enu_m;
+    const twin::CloudSample c = march_cloud_ray(copy, s.depths[static_cast<size_t>(inst.prototype)], m,
+                                                phase_for_droplet(v.optics.droplet_diameter_um), oc, eye, dir, 1e30);
+    out.radiance += out.transmittance * c.radiance;
+    out.transmittance *= c.transmittance;
+  }
+  return out;
+}
+
+struct Comparison {
+  double mean_relative = 0.0;  // mean |L - L_ref| over the mean L_ref, cloudy rays (T_ref <= 0.9)
+  double worst_transmittance = 0.0;
+  double mean_transmittance = 0.0;
+  int cloudy = 0;
+  int most_steps = 0;
+};
+
+Comparison compare(const Scene& s, const glm::dvec3& eye, double azimuth0_deg, double elevation0_deg,
+                   double elevation1_deg, int max_steps, int size, float step_voxels = 1.0f) {
+  ClipmapSpec spec;
+  spec.size = size;
+  const InstanceBuckets buckets = bucket_instances(s.field);
+  const std::vector<PrototypeMips> mips = build_prototype_mips(s.field, s.depths, s.light.direction_enu);
+  const CloudClipmap map = build_clipmap(s.field, mips, buckets, spec, clipmap_cell(s.field, spec, eye));
+  const twin::CloudLayerMarch m = make_layer_march(s.field, map, eye, s.light, step_voxels, max_steps);
+  const twin::CloudOctaves oc = default_octaves();
+  Comparison c;
+  double diff = 0.0, sum = 0.0;
+  const int nx = 48, ny = 24;
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) {
+      const double az = (azimuth0_deg + 50.0 * (x + 0.5) / nx) * M_PI / 180.0;
+      const double el = (elevation0_deg + (elevation1_deg - elevation0_deg) * (y + 0.5) / ny) * M_PI / 180.0;
+      const glm::dvec3 dir(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
+      const twin::CloudSample r = reference_ray(s, eye, dir);
+      const twin::CloudLayerSample l = march_layer_ray(map, m, oc, dir, 1e30);
+      EXPECT_TRUE(std::isfinite(l.radiance.g) && l.radiance.g >= 0.0f && l.transmittance >= 0.0f &&
+                  l.transmittance <= 1.0f);
+      c.most_steps = std::max(c.most_steps, l.steps);
+      const double dt = std::abs(double(l.transmittance) - r.transmittance);
+      c.worst_transmittance = std::max(c.worst_transmittance, dt);
+      c.mean_transmittance += dt / (nx * ny);
+      if (r.transmittance > 0.9f) continue;
+      ++c.cloudy;
+      diff += std::abs(double(l.radiance.g) - r.radiance.g);
+      sum += r.radiance.g;
+    }
+  c.mean_relative = sum > 0.0 ? diff / sum : 0.0;
+  return c;
+}
+
+void print(const char* name, const Comparison& c) {
+  std::printf("%s: %d cloudy rays of 1152, radiance error %.2f %% (mean |dL| / mean L), transmittance error mean %.4f "
+              "worst %.3f, most steps %d\n",
+              name, c.cloudy, 100.0 * c.mean_relative, c.mean_transmittance, c.worst_transmittance, c.most_steps);
+}
+
+// A 4-okta cumulus field 3-9 km ahead (the impostor test's), from mid-layer.
+TEST(CloudClipmap, LayerMarchMatchesThePerCloudMarchOnCumulus) {
+  const Scene s = make_scene(CloudLayerType::Cumulus, 4, 1200.0, 2200.0, 4000.0, glm::dvec3(0.3, 0.5, 0.8));
+  const Comparison c = compare(s, glm::dvec3(0.0, -3500.0, 1700.0), -25.0, -12.0, 12.0, 256, 512);
+  print("cumulus, 4 oktas, from mid-layer", c);
+  EXPECT_GT(c.cloudy, 100);
+  EXPECT_LT(c.mean_relative, 0.08);
+  EXPECT_LT(c.mean_transmittance, 0.02);
+  EXPECT_LE(c.most_steps, 256);
+}
+
+// A stratus deck (tiles that overlap by two voxels) from below and from above, low sun.
+TEST(CloudClipmap, LayerMarchMatchesThePerCloudMarchOnADeck) {
+  const Scene s = make_scene(CloudLayerType::Stratus, 6, 800.0, 1200.0, 9000.0, glm::dvec3(0.6, 0.3, 0.25));
+  const Comparison below = compare(s, glm::dvec3(0.0, 0.0, 300.0), -25.0, 10.0, 60.0, 256, 256);
+  print("stratus, 6 oktas, from below", below);
+  const Comparison above = compare(s, glm::dvec3(0.0, 0.0, 2000.0), -25.0, -60.0, -10.0, 256, 256);
+  print("stratus, 6 oktas, from above", above);
+  EXPECT_GT(below.cloudy, 300);
+  EXPECT_GT(above.cloudy, 300);
+  EXPECT_LT(below.mean_relative, 0.08);
+  EXPECT_LT(above.mean_relative, 0.08);
+}
+
+// The step budget holds whatever the ray's length, and the clipmap depends on
+// the eye's cell only: two eyes in one cell build bit-identical levels.
+TEST(CloudClipmap, BudgetAndDeterminism) {
+  const Scene s = make_scene(CloudLayerType::Cumulus, 6, 1000.0, 2000.0, 20000.0, glm::dvec3(0.0, 0.6, 0.8));
+  ClipmapSpec spec;
+  const InstanceBuckets buckets = bucket_instances(s.field);
+  const std::vector<PrototypeMips> mips = build_prototype_mips(s.field, s.depths, s.light.direction_enu);
+  const glm::dvec3 eye(10.0, 20.0, 1500.0), eye2(40.0, 60.0, 1500.0);
+  ASSERT_EQ(clipmap_cell(s.field, spec, eye), clipmap_cell(s.field, spec, eye2));
+  const auto t0 = std::chrono::steady_clock::now();
+  const CloudClipmap a = build_clipmap(s.field, mips, buckets, spec, clipmap_cell(s.field, spec, eye));
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  const CloudClipmap b = build_clipmap(s.field, mips, buckets, spec, clipmap_cell(s.field, spec, eye2));
+  std::printf("clipmap of %zu clouds: %zu levels, %.1f MiB, built in %.0f ms\n", s.field.instances.size(),
+              a.levels.size(), a.memory_bytes() / 1048576.0, ms);
+  ASSERT_EQ(a.levels.size(), b.levels.size());
+  for (size_t l = 0; l < a.levels.size(); ++l) {
+    ASSERT_EQ(a.levels[l].a.size(), b.levels[l].a.size());
+    EXPECT_EQ(0, std::memcmp(a.levels[l].a.data(), b.levels[l].a.data(), a.levels[l].a.size() * sizeof(glm::vec4)));
+  }
+  const twin::CloudOctaves oc = default_octaves();
+  for (int budget : {16, 64}) {
+    const twin::CloudLayerMarch m = make_layer_march(s.field, a, eye, s.light, 1.0f, budget);
+    for (double el : {-0.5, 0.2, 1.0, 3.0, 20.0, 89.0}) {
+      const double e = el * M_PI / 180.0;
+      const twin::CloudLayerSample r = march_layer_ray(a, m, oc, glm::dvec3(0.0, std::cos(e), std::sin(e)), 1e30);
+      EXPECT_LE(r.steps, budget) << el;
+      EXPECT_TRUE(std::isfinite(r.radiance.g) && r.radiance.g >= 0.0f) << el;
+    }
+  }
+}
+
+}  // namespace
