@@ -149,6 +149,7 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
   if (s.multiple_scattering_octaves) c.settings.octaves = static_cast<int>(s.multiple_scattering_octaves);
   if (s.light_update_threshold_deg > 0.0) c.settings.light_threshold_rad = s.light_update_threshold_deg * M_PI / 180.0;
   c.settings.direct_only = s.draw_mode == ATMO_CLOUD_DRAW_DIRECT;
+  c.settings.layer = s.draw_mode == ATMO_CLOUD_DRAW_LAYER;
   clouds::ImpostorSettings& imp = c.settings.impostors;
   if (s.impostor_texels) imp.tile_texels = static_cast<int>(s.impostor_texels);
   if (s.impostor_angle_threshold_deg > 0.0) imp.angle_threshold_rad = s.impostor_angle_threshold_deg * M_PI / 180.0;
@@ -283,6 +284,23 @@ bool update_cloud_shadow(ContextClouds* c) {
   if (c->relight.job && c->relight.job->has_shadow()) return false;  // the worker brings it
   c->shadow = make_shadow_map(c->field, c->lit_direction_enu);
   ++c->shadow_version;
+  return true;
+}
+
+bool update_clipmap(ContextClouds* c, const glm::dvec3& eye) {
+  if (c->empty() || glm::length(c->lit_direction_enu) < 0.5) return false;
+  const auto t0 = std::chrono::steady_clock::now();
+  if (c->buckets.box_min.size() != c->field.instances.size()) c->buckets = clouds::bucket_instances(c->field);
+  if (c->mips_version != c->version) {
+    c->mips = clouds::build_prototype_mips(c->field, c->depths, c->lit_direction_enu);
+    c->mips_version = c->version;
+  }
+  const glm::ivec2 cell = clouds::clipmap_cell(c->field, c->settings.clipmap, eye);
+  if (c->clipmap_built_for == c->version && !c->clipmap.levels.empty() && c->clipmap.cell == cell) return false;
+  c->clipmap = clouds::build_clipmap(c->field, c->mips, c->buckets, c->settings.clipmap, cell);
+  c->clipmap_built_for = c->version;
+  ++c->clipmap_version;
+  c->clipmap_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return true;
 }
 

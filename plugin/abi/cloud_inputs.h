@@ -13,6 +13,7 @@
 #include "atmo/atmo.h"
 #include "abi/cloud_relight.h"
 #include "abi/validation.h"
+#include "core/clouds/cloud_clipmap.h"
 #include "core/clouds/cloud_field.h"
 #include "core/clouds/cloud_lighting.h"
 #include "core/clouds/cloud_optics.h"
@@ -35,6 +36,9 @@ struct CloudSettings {
   int octaves = 6;
   double light_threshold_rad = 0.5 * M_PI / 180.0;
   bool direct_only = false;            // ATMO_CLOUD_DRAW_DIRECT: no impostors (the reference)
+  bool layer = false;                  // ATMO_CLOUD_DRAW_LAYER: the layer march over the clipmap
+  clouds::ClipmapSpec clipmap;
+  int layer_max_steps = 192;
   clouds::ImpostorSettings impostors;
 };
 
@@ -54,6 +58,15 @@ struct ContextClouds {
   double lowest_base_m = 0.0, highest_top_m = 0.0;  // of the grids' boxes, above origin (the sky passes' shadow)
   CloudSettings settings;
   double relight_ms = 0.0;                   // the last relight, for logs and benchmarks
+  // The layer march's clipmap (update_clipmap): buckets once per field, the
+  // prototypes' mips per light, the levels per (light, eye cell).
+  clouds::InstanceBuckets buckets;
+  std::vector<clouds::PrototypeMips> mips;
+  uint64_t mips_version = 0;                 // `version` the mips were built for (0: none)
+  clouds::CloudClipmap clipmap;
+  uint64_t clipmap_version = 0;              // bumps when the clipmap changes (GL re-uploads)
+  uint64_t clipmap_built_for = 0;            // `version` of its last build
+  double clipmap_ms = 0.0;                   // its last build, for logs and benchmarks
   // The shadow map (get_cloud_shadows): made once a host asks, then with every relight.
   bool shadow_wanted = false;
   clouds::CloudShadowMap shadow;
@@ -82,6 +95,11 @@ clouds::CloudLight cloud_light(AtmoContext_T* context, AtmoView_T* view, const c
 // are swapped in by the first call after it ends. Returns true when the grids
 // changed.
 bool relight_clouds(ContextClouds* clouds, const glm::dvec3& light_direction_enu);
+
+// Brings the clipmap up to date for an eye (the clouds' frame): rebuilt when
+// the field or its light changed or the eye entered another cell. True when
+// it changed.
+bool update_clipmap(ContextClouds* clouds, const glm::dvec3& eye_in_clouds_m);
 
 // Makes the shadow map now if it is wanted for the first time or stale
 // (relights then keep it up to date); true when it changed.

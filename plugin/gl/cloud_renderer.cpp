@@ -122,6 +122,7 @@ void CloudRenderer::destroy() {
   for (GLuint s : {linear_sampler_, border_sampler_})
     if (s) glDeleteSamplers(1, &s);
   impostors_.destroy();
+  layer_.destroy();
   forget();
 }
 
@@ -377,12 +378,30 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
     impostor_of_.assign(instances.size(), Impostor{});
     impostor_field_version_ = frame.field_version;
   }
-  if (uploaded_version_ != frame.version || !atlas_) {
-    if (!upload_atlas(frame, error)) return false;
-  }
   const int vw = in.viewport[2], vh = in.viewport[3];
   const int d = std::max(1, frame.divisor);
   const int w = (vw + d - 1) / d, h = (vh + d - 1) / d;
+  if (frame.layer) {
+    if (!frame.clipmap || frame.clipmap->levels.empty()) return true;
+    if (!layer_.init(error) || !layer_.upload(*frame.clipmap, frame.clipmap_version, error)) return false;
+    stats_.in_view = static_cast<int>(instances.size());
+    set_draw_state();  // blending off: the march writes every pixel of the image
+    if (!begin_image(w, h, error)) return false;
+    const clouds::twin::CloudLayerMarch march = clouds::make_layer_march(
+        *frame.field, *frame.clipmap, frame.eye_in_clouds_m, frame.light, frame.step_voxels, frame.layer_max_steps);
+    if (!use_pass_program(renderer, in, layer_.program(), layer_.pass(), layer_.divisor_uniform(),
+                          layer_.full_viewport_uniform(), w, h, d, error))
+      return false;
+    layer_.use(march, frame.octaves, glm::mat3(glm::transpose(frame.eye_enu_from_clouds)), kCloudUnit,
+               linear_sampler_);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    composite(in, guard, w, h, d);
+    *drawn = true;
+    return check_gl("drawing the clouds (layer march)", error);
+  }
+  if (uploaded_version_ != frame.version || !atlas_) {
+    if (!upload_atlas(frame, error)) return false;
+  }
 
   // The view frustum's side planes and pixel density, in view space.
   const glm::dmat4 view_from_clip(in.view_from_clip);
@@ -462,13 +481,7 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
   std::sort(far.begin(), far.end(), [](const Item& a, const Item& b) { return a.distance_m > b.distance_m; });
   std::sort(near.begin(), near.end(), [](const Item& a, const Item& b) { return a.distance_m < b.distance_m; });
 
-  glDisable(GL_SCISSOR_TEST);
-  glDisable(GL_DEPTH_TEST);
-  glDisablei(GL_BLEND, 0);  // the buffers the guard restores (glDisable would switch off all eight)
-  glDisablei(GL_BLEND, 1);
-  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  glColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  glBindVertexArray(vao_);
+  set_draw_state();
   if (!to_bake.empty()) {
     glActiveTexture(GL_TEXTURE0 + kCloudUnit);
     glBindTexture(GL_TEXTURE_3D, atlas_);
@@ -480,6 +493,38 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
   }
 
   // The image: impostors far to near, then the direct march over them.
+  if (!begin_image(w, h, error)) return false;
+  glEnablei(GL_BLEND, 0);
+  set_blend_of_buffer0(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_FUNC_ADD, GL_FUNC_ADD);
+  if (!far.empty()) {
+    if (!use_pass_program(renderer, in, board_.program, board_.pass, board_.divisor, board_.full_viewport, w, h, d,
+                          error))
+      return false;
+    draw_boards(in, frame, far, d);
+  }
+  if (!near.empty()) {
+    if (!use_pass_program(renderer, in, march_.program, march_.pass, march_.divisor, march_.full_viewport, w, h, d,
+                          error))
+      return false;
+    march(frame, near);
+  }
+
+  composite(in, guard, w, h, d);
+  *drawn = true;
+  return check_gl("drawing the clouds", error);
+}
+
+void CloudRenderer::set_draw_state() const {
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_DEPTH_TEST);
+  glDisablei(GL_BLEND, 0);  // the buffers the guard restores (glDisable would switch off all eight)
+  glDisablei(GL_BLEND, 1);
+  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glBindVertexArray(vao_);
+}
+
+bool CloudRenderer::begin_image(int w, int h, std::string* error) {
   if (!ensure_target(w, h, error)) return false;
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
   glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, target_, 0);
@@ -488,35 +533,32 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
   glViewport(0, 0, w, h);
   const float clear[4] = {0, 0, 0, 0};
   glClearBufferfv(GL_COLOR, 0, clear);
-  glEnablei(GL_BLEND, 0);
-  set_blend_of_buffer0(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_FUNC_ADD, GL_FUNC_ADD);
-  // Each program takes pass_common's uniforms from the renderer (which may
-  // build the aerial volume with its own program and framebuffer first).
-  auto use_pass_program = [&](GLuint program, const PassUniforms& pass, GLint divisor, GLint full_viewport) {
-    glUseProgram(program);
-    if (!renderer.prepare_pass_tables(pass, in, error)) return false;
-    glUseProgram(program);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
-    glViewport(0, 0, w, h);
-    glBindVertexArray(vao_);
-    glUniform4f(pass.viewport, 0.0f, 0.0f, static_cast<float>(vw) / d, static_cast<float>(vh) / d);
-    glUniform4f(full_viewport, static_cast<float>(in.viewport[0]), static_cast<float>(in.viewport[1]),
-                static_cast<float>(vw), static_cast<float>(vh));
-    glUniform1i(divisor, d);
-    return true;
-  };
-  if (!far.empty()) {
-    if (!use_pass_program(board_.program, board_.pass, board_.divisor, board_.full_viewport)) return false;
-    draw_boards(in, frame, far, d);
-  }
-  if (!near.empty()) {
-    if (!use_pass_program(march_.program, march_.pass, march_.divisor, march_.full_viewport)) return false;
-    march(frame, near);
-  }
+  return true;
+}
 
-  // Composite over the host's frame.
+// Each program takes pass_common's uniforms from the renderer (which may
+// build the aerial volume with its own program and framebuffer first).
+bool CloudRenderer::use_pass_program(Renderer& renderer, const PassInputs& in, GLuint program, const PassUniforms& pass,
+                                     GLint divisor, GLint full_viewport, int w, int h, int d, std::string* error) {
+  glUseProgram(program);
+  if (!renderer.prepare_pass_tables(pass, in, error)) return false;
+  glUseProgram(program);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
+  glViewport(0, 0, w, h);
+  glBindVertexArray(vao_);
+  glUniform4f(pass.viewport, 0.0f, 0.0f, static_cast<float>(in.viewport[2]) / d, static_cast<float>(in.viewport[3]) / d);
+  glUniform4f(full_viewport, static_cast<float>(in.viewport[0]), static_cast<float>(in.viewport[1]),
+              static_cast<float>(in.viewport[2]), static_cast<float>(in.viewport[3]));
+  glUniform1i(divisor, d);
+  return true;
+}
+
+// The image over the host's frame.
+void CloudRenderer::composite(const PassInputs& in, GlStateGuard& guard, int w, int h, int d) {
   guard.restore_draw_framebuffer();
-  glViewport(in.viewport[0], in.viewport[1], vw, vh);
+  glEnablei(GL_BLEND, 0);  // premultiplied
+  set_blend_of_buffer0(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_FUNC_ADD, GL_FUNC_ADD);
+  glViewport(in.viewport[0], in.viewport[1], in.viewport[2], in.viewport[3]);
   glUseProgram(composite_);
   glUniform1i(composite_clouds_, static_cast<GLint>(kCloudUnit));
   glUniform1i(composite_encoding_, in.output_encoding);
@@ -527,8 +569,6 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
   glBindTexture(GL_TEXTURE_2D, target_);
   glBindSampler(kCloudUnit, linear_sampler_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
-  *drawn = true;
-  return check_gl("drawing the clouds", error);
 }
 
 }  // namespace atmo::gl

@@ -21,6 +21,7 @@
 #include "core/clouds/cloud_shadow.h"
 #include "core/clouds/cloud_twin.h"
 #include "core/clouds/impostor_policy.h"
+#include "gl/cloud_layer_renderer.h"
 #include "gl/impostor_atlas.h"
 #include "gl/pass_uniforms.h"
 
@@ -28,6 +29,7 @@ namespace atmo::gl {
 
 struct PassInputs;
 class Renderer;
+class GlStateGuard;
 
 // One frame of clouds, in the view's ENU axes at the eye.
 struct CloudFrameInputs {
@@ -42,6 +44,10 @@ struct CloudFrameInputs {
   int divisor = 2;
   float step_voxels = 1.0f;
   bool direct_only = false;           // the reference: every cloud by the direct march
+  bool layer = false;                 // the layer march over `clipmap` (ATMO_CLOUD_DRAW_LAYER)
+  const clouds::CloudClipmap* clipmap = nullptr;
+  uint64_t clipmap_version = 0;       // changes with the clipmap's content (re-upload)
+  int layer_max_steps = 192;          // the layer march's step budget per pixel
   clouds::ImpostorSettings impostors;
 };
 
@@ -110,6 +116,12 @@ class CloudRenderer {
   struct Item;
 
   bool upload_atlas(const CloudFrameInputs& frame, std::string* error);
+  void set_draw_state() const;
+  // Binds and clears the low-resolution image as the draw target.
+  bool begin_image(int w, int h, std::string* error);
+  bool use_pass_program(Renderer& renderer, const PassInputs& in, GLuint program, const PassUniforms& pass,
+                        GLint divisor, GLint full_viewport, int w, int h, int d, std::string* error);
+  void composite(const PassInputs& in, GlStateGuard& guard, int w, int h, int d);
   bool ensure_target(int width, int height, std::string* error);
   void set_cloud_uniforms(const InstanceUniforms& u, const CloudFrameInputs& frame) const;
   // Appends instance `index`'s kVec4PerInstance vec4s (cloud_instance.glsl).
@@ -131,6 +143,7 @@ class CloudRenderer {
   uint64_t uploaded_version_ = 0;
   size_t atlas_bytes_ = 0;
   ImpostorAtlas impostors_;
+  CloudLayerRenderer layer_;
   GLuint shadow_ = 0;
   uint64_t shadow_field_version_ = 0, shadow_version_ = 0;
   std::vector<Impostor> impostor_of_;     // per instance

@@ -191,3 +191,14 @@ ATMO_FN vec3 cloud_step_radiance(IN(vec3) source, float sigma_t, float dt) {
   float step_t = exp(-sigma_t * dt);
   return sigma_t > 1e-9f ? source * (1.0f - step_t) / sigma_t : source * dt;
 }
+
+// Entry and exit of a ray with the box [0, size], as (t_near, t_far); t_near > t_far when it misses.
+ATMO_FN vec2 cloud_box_hit(IN(vec3) origin, IN(vec3) dir, IN(vec3) size) {
+  vec3 inv = vec3(1.0f) / vec3(abs(dir.x) > 1e-12f ? dir.x : 1e-12f, abs(dir.y) > 1e-12f ? dir.y : 1e-12f,
+                              abs(dir.z) > 1e-12f ? dir.z : 1e-12f);
+  vec3 a = (vec3(0.0f) - origin) * inv;
+  vec3 b = (size - origin) * inv;
+  vec3 lo = min(a, b);
+  vec3 hi = max(a, b);
+  return vec2(max(max(lo.x, lo.y), max(lo.z, 0.0f)), min(min(hi.x, hi.y), hi.z));
+}

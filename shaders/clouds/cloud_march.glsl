@@ -30,17 +30,6 @@ struct CloudSample {
   float depth_m;         // distance from the ray origin to the opacity-weighted mean of the cloud (far end if none)
 };
 
-// Entry and exit of a ray with the box [0, size], as (t_near, t_far); t_near > t_far when it misses.
-ATMO_FN vec2 cloud_box_hit(IN(vec3) origin, IN(vec3) dir, IN(vec3) size) {
-  vec3 inv = vec3(1.0f) / vec3(abs(dir.x) > 1e-12f ? dir.x : 1e-12f, abs(dir.y) > 1e-12f ? dir.y : 1e-12f,
-                              abs(dir.z) > 1e-12f ? dir.z : 1e-12f);
-  vec3 a = (vec3(0.0f) - origin) * inv;
-  vec3 b = (size - origin) * inv;
-  vec3 lo = min(a, b);
-  vec3 hi = max(a, b);
-  return vec2(max(max(lo.x, lo.y), max(lo.z, 0.0f)), min(min(hi.x, hi.y), hi.z));
-}
-
 // origin_index: the eye in index space; dir_grid: unit view direction in grid
 // axes; t_max_m: where the ray stops (the host's surface, or far away).
 // Where a ray from the point away from the light leaves the grid through a

@@ -190,4 +190,26 @@ TEST(CloudImpostors, FlightIntoTheLayerNeverDepartsFromTheDirectMarch) {
   EXPECT_GT(crossfaded, 0);  // the flight did exercise both paths together
 }
 
+// The layer march (ATMO_CLOUD_DRAW_LAYER) against the same reference: one
+// march per pixel over the clipmap, the same lighting, so what differs is the
+// clipmap's resampling (coarser levels further out) and the step budget.
+TEST(CloudLayer, MatchesTheDirectMarchAlongAFlight) {
+  Scene layer, ref;
+  layer.set_clouds(ATMO_CLOUD_DRAW_LAYER);
+  ref.set_clouds(ATMO_CLOUD_DRAW_DIRECT);
+  double worst = 1e9;
+  for (double north : {0.0, 1800.0, 3600.0, 4200.0}) {
+    for (double pitch : {2.0, -10.0}) {
+      const atmo::support::Image a = layer.draw(0.0, north, 1700.0, pitch);
+      const atmo::support::Image b = ref.draw(0.0, north, 1700.0, pitch);
+      const double p = psnr(a, b);
+      worst = std::min(worst, p);
+      std::printf("layer march, north %5.0f m, pitch %+.0f deg: PSNR %.2f dB against the direct march\n", north, pitch,
+                  p);
+    }
+  }
+  std::printf("worst PSNR: %.2f dB\n", worst);
+  EXPECT_GE(worst, 30.0);
+}
+
 }  // namespace

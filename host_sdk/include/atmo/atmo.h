@@ -510,7 +510,10 @@ typedef struct AtmoCloudsState {
 typedef enum AtmoCloudDrawMode {
   ATMO_CLOUD_DRAW_IMPOSTORS = 0, /* impostors, the direct march near and inside clouds, cross-faded */
   ATMO_CLOUD_DRAW_DIRECT = 1,    /* the direct march for every cloud (the reference; slow) */
-  ATMO_CLOUD_DRAW_MODE_COUNT = 2
+  ATMO_CLOUD_DRAW_LAYER = 2,     /* one march per pixel through every cloud, over a clipmap of the field around
+                                    the eye: cost bounded by pixels x steps, not by the number of clouds
+                                    (docs/CLOUDS.md, "The layer march") */
+  ATMO_CLOUD_DRAW_MODE_COUNT = 3
 } AtmoCloudDrawMode;
 
 /* The clouds' shadow on the ground, for the host's terrain shading: sample it

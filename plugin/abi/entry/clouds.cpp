@@ -43,6 +43,17 @@ AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& 
   frame.eye_enu_from_clouds = glm::transpose(cloud_enu_from_eye_enu(c, view->eye.ecef_from_enu));
   frame.field_version = c.field_version;
   frame.direct_only = c.settings.direct_only;
+  if (c.settings.layer) {
+    if (update_clipmap(&c, frame.eye_in_clouds_m))
+      ctx->services.log(ATMO_LOG_DEBUG, pass_log_prefix(ctx, view) + "clouds: clipmap of " +
+                                            std::to_string(c.clipmap.levels.size()) + " levels, " +
+                                            std::to_string(c.clipmap.memory_bytes() >> 20) + " MiB, built in " +
+                                            std::to_string(static_cast<int>(c.clipmap_ms)) + " ms");
+    frame.layer = true;
+    frame.clipmap = &c.clipmap;
+    frame.clipmap_version = c.clipmap_version;
+    frame.layer_max_steps = c.settings.layer_max_steps;
+  }
   frame.impostors = c.settings.impostors;
   frame.octaves = clouds::default_octaves();
   frame.octaves.count = c.settings.octaves;

@@ -1,0 +1,132 @@
+#include "gl/cloud_layer_renderer.h"
+
+#include <algorithm>
+#include <vector>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "gl/shader_program.h"
+
+namespace atmo::gl {
+
+using clouds::kOctaveFloatCount;
+using clouds::kOctaveFloats;
+
+bool CloudLayerRenderer::init(std::string* error) {
+  if (initialised()) return true;
+  program_ = build_program("fullscreen.vert", "clouds_layer.frag", "", error);
+  if (!program_) return false;
+  auto loc = [&](const char* name) { return glGetUniformLocation(program_, name); };
+  pass_ = locate_pass_uniforms(program_);
+  divisor_ = loc("u_divisor");
+  full_viewport_ = loc("u_full_viewport");
+  tex_a_ = loc("u_layer_a");
+  tex_b_ = loc("u_layer_b");
+  size_ = loc("u_layer_size");
+  clouds_from_enu_ = loc("u_clouds_from_enu");
+  level_count_ = loc("u_layer.level_count");
+  level_origin_ = loc("u_layer.level_origin[0]");
+  level_dims_ = loc("u_layer.level_dims[0]");
+  phases_ = loc("u_layer.phases[0]");
+  phase_um_ = loc("u_layer.phase_um[0]");
+  phase_count_ = loc("u_layer.phase_count");
+  bottom_ = loc("u_layer.bottom_m");
+  top_ = loc("u_layer.top_m");
+  step_voxels_ = loc("u_layer.step_voxels");
+  max_steps_ = loc("u_layer.max_steps");
+  albedo_ = loc("u_layer.albedo");
+  light_illuminance_ = loc("u_layer.light_illuminance");
+  light_dir_ = loc("u_layer.light_dir");
+  sky_radiance_ = loc("u_layer.sky_radiance");
+  ground_radiance_ = loc("u_layer.ground_radiance");
+  octave_count_ = loc("u_octaves.count");
+  up_grid_ = loc("u_octaves.up_grid");
+  for (size_t i = 0; i < kOctaveFloatCount; ++i)
+    octave_floats_[i] = loc(("u_octaves." + std::string(kOctaveFloats[i].name)).c_str());
+  return check_gl("building the cloud layer program", error);
+}
+
+void CloudLayerRenderer::destroy() {
+  if (program_) glDeleteProgram(program_);
+  for (GLuint t : {tex_a, tex_b})
+    if (t) glDeleteTextures(1, &t);
+  *this = CloudLayerRenderer{};
+}
+
+bool CloudLayerRenderer::upload(const clouds::CloudClipmap& clipmap, uint64_t clipmap_version, std::string* error) {
+  if (tex_a && clipmap_version == uploaded_version_) return true;
+  if (clipmap.levels.empty()) return true;
+  const int nx = clipmap.levels[0].nx, ny = clipmap.levels[0].ny;
+  int nz = 0;
+  for (const clouds::ClipmapLevel& L : clipmap.levels) nz += L.nz;
+  GLint max3d = 256;
+  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3d);
+  if (nx > max3d || ny > max3d || nz > max3d) {
+    if (error)
+      *error = "the clouds' clipmap (" + std::to_string(nx) + "x" + std::to_string(ny) + "x" + std::to_string(nz) +
+               " voxels) exceeds the GL 3D texture limit " + std::to_string(max3d);
+    return false;
+  }
+  glActiveTexture(GL_TEXTURE0);
+  glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);  // a host's bound PBO would be read instead (restored by the guard)
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  glPixelStorei(GL_UNPACK_IMAGE_HEIGHT, 0);
+  const bool same_size = tex_a && texture_size_ == glm::vec3(nx, ny, nz);
+  for (int t = 0; t < 2; ++t) {
+    GLuint& tex = t == 0 ? tex_a : tex_b;
+    if (!tex) glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_3D, tex);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAX_LEVEL, 0);
+    if (!same_size)
+      glTexImage3D(GL_TEXTURE_3D, 0, t == 0 ? GL_RGBA16F : GL_RG16F, nx, ny, nz, 0, t == 0 ? GL_RGBA : GL_RG, GL_FLOAT,
+                   nullptr);
+    int z = 0;
+    for (const clouds::ClipmapLevel& L : clipmap.levels) {
+      if (t == 0)
+        glTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, z, L.nx, L.ny, L.nz, GL_RGBA, GL_FLOAT, glm::value_ptr(L.a[0]));
+      else
+        glTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, z, L.nx, L.ny, L.nz, GL_RG, GL_FLOAT, glm::value_ptr(L.b[0]));
+      z += L.nz;
+    }
+  }
+  texture_size_ = glm::vec3(nx, ny, nz);
+  bytes_ = static_cast<size_t>(nx) * ny * nz * 12;
+  uploaded_version_ = clipmap_version;
+  return check_gl("uploading the clouds' clipmap", error);
+}
+
+void CloudLayerRenderer::use(const clouds::twin::CloudLayerMarch& m, const clouds::twin::CloudOctaves& oc,
+                             const glm::mat3& clouds_from_enu, GLuint unit_a, GLuint sampler) const {
+  glUseProgram(program_);
+  glActiveTexture(GL_TEXTURE0 + unit_a);
+  glBindTexture(GL_TEXTURE_3D, tex_a);
+  glBindSampler(unit_a, sampler);
+  glActiveTexture(GL_TEXTURE0 + unit_a + 1);
+  glBindTexture(GL_TEXTURE_3D, tex_b);
+  glBindSampler(unit_a + 1, sampler);
+  glUniform1i(tex_a_, static_cast<GLint>(unit_a));
+  glUniform1i(tex_b_, static_cast<GLint>(unit_a + 1));
+  glUniform3fv(size_, 1, glm::value_ptr(texture_size_));
+  glUniformMatrix3fv(clouds_from_enu_, 1, GL_FALSE, glm::value_ptr(clouds_from_enu));
+  glUniform1i(level_count_, m.level_count);
+  glUniform4fv(level_origin_, CLOUD_LAYER_MAX_LEVELS, glm::value_ptr(m.level_origin[0]));
+  glUniform4fv(level_dims_, CLOUD_LAYER_MAX_LEVELS, glm::value_ptr(m.level_dims[0]));
+  glUniform4fv(phases_, CLOUD_LAYER_PHASES, glm::value_ptr(m.phases[0]));
+  glUniform1fv(phase_um_, CLOUD_LAYER_PHASES, m.phase_um);
+  glUniform1i(phase_count_, m.phase_count);
+  glUniform1f(bottom_, m.bottom_m);
+  glUniform1f(top_, m.top_m);
+  glUniform1f(step_voxels_, m.step_voxels);
+  glUniform1i(max_steps_, m.max_steps);
+  glUniform1f(albedo_, m.albedo);
+  glUniform3fv(light_illuminance_, 1, glm::value_ptr(m.light_illuminance));
+  glUniform3fv(light_dir_, 1, glm::value_ptr(m.light_dir));
+  glUniform3fv(sky_radiance_, 1, glm::value_ptr(m.sky_radiance));
+  glUniform3fv(ground_radiance_, 1, glm::value_ptr(m.ground_radiance));
+  glUniform1i(octave_count_, oc.count);
+  glUniform3fv(up_grid_, 1, glm::value_ptr(oc.up_grid));
+  for (size_t i = 0; i < kOctaveFloatCount; ++i) glUniform1f(octave_floats_[i], oc.*kOctaveFloats[i].field);
+}
+
+}  // namespace atmo::gl
