@@ -79,7 +79,7 @@ bool parse_unsigned(const std::string& text, const char* what, uint64_t max, uin
   errno = 0;
   const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
   if (text.empty() || text[0] < '0' || text[0] > '9' || !end || *end != '\0' || errno == ERANGE || v > max) {
-    *error = std::string(what) + " '" + text + "' is not a whole number in [0, " + std::to_string(max) + "]";
+    *error = std::string(what) + " '" + text + "' is not a whole number from 0 to " + std::to_string(max);
     return false;
   }
   *out = v;
