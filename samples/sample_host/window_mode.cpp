@@ -143,8 +143,12 @@ bool input_text(const char* label, std::string* text) {
   return true;
 }
 
-// Add and remove cloud layers; Apply calls set_clouds with them.
+// The Weather window: add and remove cloud layers; Apply calls set_clouds with them.
 void draw_weather(PanelState* panel, CloudSettings* clouds) {
+  ImGui::SetNextWindowPos(ImVec2(std::max(480.0f, ImGui::GetIO().DisplaySize.x - 390.0f), 10), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(380, 0), ImGuiCond_FirstUseEver);
+  ImGui::Begin("Weather");
+  ImGui::PushItemWidth(-170.0f);  // room for the labels
   bool edited = false;
   for (size_t i = 0; i < clouds->layers.size();) {
     CloudLayerSettings& l = clouds->layers[i];
@@ -223,6 +227,8 @@ void draw_weather(PanelState* panel, CloudSettings* clouds) {
     ImGui::TextColored(colour, "%s", panel->clouds_message.c_str());
     ImGui::PopTextWrapPos();
   }
+  ImGui::PopItemWidth();
+  ImGui::End();
 }
 
 void draw_panel(const SampleRenderer& renderer, const FrameReport& report, FlyCamera* fly, PanelState* panel,
@@ -313,8 +319,6 @@ void draw_panel(const SampleRenderer& renderer, const FrameReport& report, FlyCa
     ImGui::TextDisabled("WASD move, Q/E down/up, drag to look, shift 10x");
   }
 
-  if (ImGui::CollapsingHeader("Weather", ImGuiTreeNodeFlags_DefaultOpen)) draw_weather(panel, &s->clouds);
-
   if (ImGui::CollapsingHeader("GPU time per pass", ImGuiTreeNodeFlags_DefaultOpen) &&
       ImGui::BeginTable("timings", 3)) {
     ImGui::TableSetupColumn("section", ImGuiTableColumnFlags_WidthFixed, 140.0f);
@@ -365,6 +369,7 @@ void draw_panel(const SampleRenderer& renderer, const FrameReport& report, FlyCa
     for (const std::string& e : panel->errors) ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "%s", e.c_str());
   }
   ImGui::End();
+  draw_weather(panel, &s->clouds);
 }
 
 }  // namespace
