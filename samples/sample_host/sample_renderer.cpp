@@ -236,13 +236,8 @@ bool SampleRenderer::set_clouds(const SceneSettings& settings, std::string* mess
     }
     layers.push_back(l);
   }
-  auto state = atmo::make<AtmoCloudsState>(ATMO_TYPE_CLOUDS_STATE);
-  state.origin_geodetic[0] = settings.origin.latitude_deg;
-  state.origin_geodetic[1] = settings.origin.longitude_deg;
-  state.origin_geodetic[2] = settings.origin.height_m;
-  state.layers = layers.data();
-  state.layer_count = static_cast<uint32_t>(layers.size());
-  state.layer_size = sizeof(AtmoCloudLayer);
+  auto state = atmo::clouds_state(settings.origin.latitude_deg, settings.origin.longitude_deg,
+                                  settings.origin.height_m, layers.data(), static_cast<uint32_t>(layers.size()));
   state.draw_mode = static_cast<uint32_t>(clouds.draw_mode);
   state.march_resolution_divisor = clouds.march_resolution_divisor;
 
