@@ -167,6 +167,8 @@ void draw_weather(PanelState* panel, CloudSettings* clouds) {
         ImGui::EndCombo();
       }
       if (type != static_cast<int>(l.type)) {
+        // A VDB file keeps its own heights: its origin starts on the datum (as --vdb puts it).
+        if (type == ATMO_CLOUD_VDB_FILE) l.base_m = 0.0;
         l.type = static_cast<AtmoCloudLayerType>(type);
         edited = true;
       }
