@@ -1,5 +1,6 @@
 #include "sample_renderer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -242,17 +243,24 @@ bool SampleRenderer::set_clouds(const SceneSettings& settings, std::string* mess
   state.march_resolution_divisor = clouds.march_resolution_divisor;
 
   const auto start = std::chrono::steady_clock::now();
+  size_t logged_before = 0;
+  {
+    const std::lock_guard<std::mutex> lock(log_mutex_);
+    logged_before = logged_errors_.size();
+  }
+  // The plugin's error-level log lines of a refused call are said in *message: not a frame's errors.
+  const auto refused = [&](std::string text) {
+    *message = std::move(text);
+    const std::lock_guard<std::mutex> lock(log_mutex_);
+    logged_errors_.resize(std::min(logged_errors_.size(), logged_before));
+    return false;
+  };
   try {
     const AtmoResult r = context_->set_clouds(state);
-    if (r < 0) {  // a file that failed to load (the plugin logged each one)
-      *message = "set_clouds: " + plugin_->result_string(r) + ": " + context_->last_error();
-      take_logged_errors();  // said in *message: not this frame's errors
-      return false;
-    }
+    // A file that failed to load (the plugin logged each one; last_error names the first).
+    if (r < 0) return refused("set_clouds: " + plugin_->result_string(r) + ": " + context_->last_error());
   } catch (const std::exception& e) {  // atmo::Error (refused), or a plugin without clouds
-    *message = e.what();
-    take_logged_errors();
-    return false;
+    return refused(e.what());
   }
   char text[96];
   std::snprintf(text, sizeof text, "set_clouds: %zu layer(s) in %.2f s", layers.size(),
