@@ -59,6 +59,12 @@ int run_headless(const Options& options, SceneSettings settings) {
     std::fprintf(stderr, "atmo-sample-host: gl_init: %s\n", error.c_str());
     status = 1;
   }
+  if (status == 0 && !settings.clouds.layers.empty()) {
+    std::string message;
+    const bool ok = renderer->set_clouds(settings, &message);
+    std::fprintf(ok ? stdout : stderr, "%s%s\n", ok ? "" : "atmo-sample-host: ", message.c_str());
+    if (!ok) status = 1;
+  }
   std::unique_ptr<support::OffscreenTarget> target;
   if (status == 0) {
     target = support::OffscreenTarget::create(options.width, options.height, &error);

@@ -4,8 +4,11 @@
 //
 //   atmo-sample-host [--plugin PATH] [--lat D --lon D] [--utc 2024-06-21T15:00:00Z]
 //   atmo-sample-host --frames N --out DIR     headless: N frames as DIR/frame_NNN.png
+//   atmo-sample-host --cloud cumulus:4:1200:2500   a cloud layer (repeatable; --vdb FILE[:GRID])
 #include <cstdio>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -65,6 +68,23 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"standard", "reversed", "log", "logarithmic"}))
       ->capture_default_str();
   app.add_option("--seed", settings.seed, "Terrain seed")->capture_default_str();
+  std::vector<std::string> cloud_layers, vdb_layers;
+  app.add_option("--cloud", cloud_layers,
+                 "A cloud layer, TYPE:OKTAS:BASE_M:TOP_M[:AREA_KM[:SEED]] (cumulus|stratus|overcast|cirrus; heights "
+                 "above the airfield, a square area centred on it, default 20 km, seed 1); repeatable")
+      ->allow_extra_args(false);
+  app.add_option("--vdb", vdb_layers,
+                 "A cloud from an OpenVDB file, FILE[:GRID] (grid default \"density\"; the file's origin at the "
+                 "airfield); repeatable")
+      ->allow_extra_args(false);
+  std::string draw_mode = sample::cloud_draw_mode_name(settings.clouds.draw_mode);
+  app.add_option("--cloud-draw", draw_mode, "How the clouds pass draws")
+      ->check(CLI::IsMember({sample::cloud_draw_mode_name(ATMO_CLOUD_DRAW_IMPOSTORS),
+                             sample::cloud_draw_mode_name(ATMO_CLOUD_DRAW_DIRECT)}))
+      ->capture_default_str();
+  app.add_option("--cloud-divisor", settings.clouds.march_resolution_divisor,
+                 "The cloud march renders at 1/N of the viewport per axis (march_resolution_divisor)")
+      ->capture_default_str();
   auto* frames = app.add_option("--frames", options.frames, "Headless: render N frames along a fixed approach")
                      ->check(CLI::PositiveNumber);
   auto* out = app.add_option("--out", options.out_dir, "Headless: folder for frame_NNN.png");
@@ -84,6 +104,22 @@ int main(int argc, char** argv) {
     return 2;
   }
   atmo::host_scene::parse_depth_convention(depth.c_str(), &settings.depth_convention);
+  using LayerParser = bool (*)(const std::string&, sample::CloudLayerSettings*, std::string*);
+  const std::tuple<const char*, const std::vector<std::string>*, LayerParser> layer_options[] = {
+      {"--cloud", &cloud_layers, &sample::parse_cloud_layer}, {"--vdb", &vdb_layers, &sample::parse_vdb_layer}};
+  for (const auto& [option, texts, parse] : layer_options) {
+    for (const std::string& text : *texts) {
+      sample::CloudLayerSettings layer;
+      std::string layer_error;
+      if (!parse(text, &layer, &layer_error)) {
+        std::fprintf(stderr, "atmo-sample-host: %s %s\n", option, layer_error.c_str());
+        return 2;
+      }
+      settings.clouds.layers.push_back(layer);
+    }
+  }
+  settings.clouds.draw_mode =
+      draw_mode == sample::cloud_draw_mode_name(ATMO_CLOUD_DRAW_DIRECT) ? ATMO_CLOUD_DRAW_DIRECT : ATMO_CLOUD_DRAW_IMPOSTORS;
   settings.pose = sample::approach_path(0.0);
 
   return options.frames > 0 ? sample::run_headless(options, settings) : sample::run_window(options, settings);

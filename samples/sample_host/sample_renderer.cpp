@@ -1,8 +1,10 @@
 #include "sample_renderer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <string_view>
 
@@ -67,9 +69,20 @@ const char* severity_name(int32_t severity) {
 
 const char* section_name(int section) {
   static const char* const names[kSectionCount] = {"terrain",         "sky",         "aerial perspective",
-                                                   "clouds",          "night sky",   "light glows",
+                                                   "night sky",       "clouds",      "light glows",
                                                    "tone map"};
   return section >= 0 && section < kSectionCount ? names[section] : "?";
+}
+
+int section_pass(int section) {
+  switch (section) {
+    case kSectionSky: return ATMO_PASS_SKY;
+    case kSectionAerialPerspective: return ATMO_PASS_AERIAL_PERSPECTIVE;
+    case kSectionNightSky: return ATMO_PASS_NIGHT_SKY;
+    case kSectionClouds: return ATMO_PASS_CLOUDS;
+    case kSectionLightGlows: return ATMO_PASS_LIGHT_GLOWS;
+  }
+  return -1;
 }
 
 SampleRenderer::SampleRenderer(const std::string& plugin_path, AtmoGlProcLoader loader, bool verbose)
@@ -195,6 +208,67 @@ bool SampleRenderer::ensure_targets(int width, int height, std::string* error) {
   return true;
 }
 
+bool SampleRenderer::set_clouds(const SceneSettings& settings, std::string* message) {
+  // The one place the weather becomes an AtmoCloudsState (window and headless).
+  const CloudSettings& clouds = settings.clouds;
+  std::vector<std::string> paths(clouds.layers.size());
+  std::vector<AtmoCloudLayer> layers;
+  for (size_t i = 0; i < clouds.layers.size(); ++i) {
+    const CloudLayerSettings& in = clouds.layers[i];
+    auto l = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
+    l.type = static_cast<uint32_t>(in.type);
+    if (in.type == ATMO_CLOUD_VDB_FILE) {
+      // Relative to the working directory (the plugin would read it next to libatmo.so).
+      std::error_code ignored;
+      paths[i] = in.vdb_path.empty() ? in.vdb_path : std::filesystem::absolute(in.vdb_path, ignored).string();
+      l.vdb_path = paths[i].c_str();
+      l.vdb_grid = in.vdb_grid.empty() ? nullptr : in.vdb_grid.c_str();
+      l.position_enu_m[0] = in.area_east_km * 1000.0;
+      l.position_enu_m[1] = in.area_north_km * 1000.0;
+      l.position_enu_m[2] = in.base_m;
+    } else {
+      l.coverage_oktas = in.coverage_oktas;
+      l.base_m = in.base_m;
+      l.top_m = in.top_m;
+      l.area_centre_enu_m[0] = in.area_east_km * 1000.0;
+      l.area_centre_enu_m[1] = in.area_north_km * 1000.0;
+      l.area_size_m = in.area_size_km * 1000.0;
+      l.seed = in.seed;
+    }
+    layers.push_back(l);
+  }
+  auto state = atmo::clouds_state(settings.origin.latitude_deg, settings.origin.longitude_deg,
+                                  settings.origin.height_m, layers.data(), static_cast<uint32_t>(layers.size()));
+  state.draw_mode = static_cast<uint32_t>(clouds.draw_mode);
+  state.march_resolution_divisor = clouds.march_resolution_divisor;
+
+  const auto start = std::chrono::steady_clock::now();
+  size_t logged_before = 0;
+  {
+    const std::lock_guard<std::mutex> lock(log_mutex_);
+    logged_before = logged_errors_.size();
+  }
+  // The plugin's error-level log lines of a refused call are said in *message: not a frame's errors.
+  const auto refused = [&](std::string text) {
+    *message = std::move(text);
+    const std::lock_guard<std::mutex> lock(log_mutex_);
+    logged_errors_.resize(std::min(logged_errors_.size(), logged_before));
+    return false;
+  };
+  try {
+    const AtmoResult r = context_->set_clouds(state);
+    // A file that failed to load (the plugin logged each one; last_error names the first).
+    if (r < 0) return refused("set_clouds: " + plugin_->result_string(r) + ": " + context_->last_error());
+  } catch (const std::exception& e) {  // atmo::Error (refused), or a plugin without clouds
+    return refused(e.what());
+  }
+  char text[96];
+  std::snprintf(text, sizeof text, "set_clouds: %zu layer(s) in %.2f s", layers.size(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  *message = text;
+  return true;
+}
+
 FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t frame_number, unsigned target_fbo,
                                          int width, int height, bool wait_for_timings) {
   const auto cpu_start = std::chrono::steady_clock::now();
@@ -283,8 +357,9 @@ FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t
 
     if (plugin_ready) {
       glBindFramebuffer(GL_FRAMEBUFFER, atmo_fbo_);
-      for (int pass = 0; pass < ATMO_PASS_COUNT; ++pass) {
-        timers_.begin(kSectionSky + pass);
+      for (int section = kSectionSky; section <= kSectionLightGlows; ++section) {
+        const int pass = section_pass(section);
+        timers_.begin(section);
         try {
           report.pass_results[static_cast<size_t>(pass)] = view_->render(static_cast<AtmoPass>(pass));
         } catch (const atmo::Error& e) {

@@ -17,23 +17,26 @@
 
 namespace atmo::sample {
 
-// Timed sections of a frame, in drawing order.
+// Timed sections of a frame, in drawing order: the plugin's passes in the
+// order atmo.h asks for (clouds after the night sky, so they hide the stars).
 enum Section {
   kSectionTerrain = 0,
   kSectionSky,                 // ATMO_PASS_SKY
   kSectionAerialPerspective,   // ATMO_PASS_AERIAL_PERSPECTIVE
-  kSectionClouds,              // ATMO_PASS_CLOUDS
   kSectionNightSky,            // ATMO_PASS_NIGHT_SKY
+  kSectionClouds,              // ATMO_PASS_CLOUDS
   kSectionLightGlows,          // ATMO_PASS_LIGHT_GLOWS
   kSectionToneMap,
   kSectionCount
 };
 const char* section_name(int section);
+// The plugin pass a section draws; -1 for the host's own sections.
+int section_pass(int section);
 
 struct FrameReport {
   std::array<double, kSectionCount> gpu_ms{};  // newest available timings; NaN: not run / none yet
   bool timings_valid = false;
-  std::array<AtmoResult, ATMO_PASS_COUNT> pass_results{};
+  std::array<AtmoResult, ATMO_PASS_COUNT> pass_results{};  // by AtmoPass
   AtmoLighting lighting{};          // from get_lighting
   AtmoFogLighting fog_lighting{};   // from get_fog_lighting (light_count 0: no fog or no lights)
   host_scene::SceneLighting scene_lighting;
@@ -59,6 +62,11 @@ class SampleRenderer {
   // height pixels. wait_for_timings: read this frame's GPU timings (stalls).
   FrameReport render_frame(const SceneSettings& settings, uint64_t frame_number, unsigned target_fbo, int width,
                            int height, bool wait_for_timings);
+
+  // Replaces the plugin's clouds with settings.clouds (set_clouds; no GL).
+  // True on success; *message says what was set, or why the plugin refused
+  // it (the clouds are then unchanged).
+  bool set_clouds(const SceneSettings& settings, std::string* message);
 
   const AtmoPluginApi& api() const { return plugin_->api(); }
   const host_scene::Terrain& terrain() const { return *terrain_; }

@@ -1,8 +1,11 @@
 #include "scene_settings.h"
 
+#include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <vector>
 
 #include "atmo_host_scene/terrain.h"
 #include "core/astro/iso8601.h"
@@ -26,6 +29,107 @@ bool parse_utc(const std::string& text, double* posix_s, std::string* error) {
 }
 
 std::string format_utc(double posix_s) { return core::astro::format_iso8601_posix(posix_s); }
+
+const char* cloud_type_name(AtmoCloudLayerType type) {
+  switch (type) {
+    case ATMO_CLOUD_CUMULUS: return "cumulus";
+    case ATMO_CLOUD_STRATUS: return "stratus";
+    case ATMO_CLOUD_OVERCAST: return "overcast";
+    case ATMO_CLOUD_CIRRUS: return "cirrus";
+    case ATMO_CLOUD_VDB_FILE: return "vdb";
+    case ATMO_CLOUD_LAYER_TYPE_COUNT: break;
+  }
+  return nullptr;
+}
+
+const char* cloud_draw_mode_name(uint32_t mode) {
+  switch (mode) {
+    case ATMO_CLOUD_DRAW_IMPOSTORS: return "impostors";
+    case ATMO_CLOUD_DRAW_DIRECT: return "direct";
+  }
+  return nullptr;
+}
+
+namespace {
+
+std::vector<std::string> split(const std::string& text, char separator) {
+  std::vector<std::string> parts;
+  size_t start = 0;
+  for (size_t end; (end = text.find(separator, start)) != std::string::npos; start = end + 1)
+    parts.push_back(text.substr(start, end - start));
+  parts.push_back(text.substr(start));
+  return parts;
+}
+
+// The whole of text as a finite number; false with *error naming what.
+bool parse_number(const std::string& text, const char* what, double* out, std::string* error) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || !end || *end != '\0' || !std::isfinite(v)) {
+    *error = std::string(what) + " '" + text + "' is not a finite number";
+    return false;
+  }
+  *out = v;
+  return true;
+}
+
+// The whole of text as a whole number in [0, max].
+bool parse_unsigned(const std::string& text, const char* what, uint64_t max, uint64_t* out, std::string* error) {
+  char* end = nullptr;
+  errno = 0;
+  const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
+  if (text.empty() || text[0] < '0' || text[0] > '9' || !end || *end != '\0' || errno == ERANGE || v > max) {
+    *error = std::string(what) + " '" + text + "' is not a whole number from 0 to " + std::to_string(max);
+    return false;
+  }
+  *out = v;
+  return true;
+}
+
+}  // namespace
+
+bool parse_cloud_layer(const std::string& text, CloudLayerSettings* out, std::string* error) {
+  const std::vector<std::string> parts = split(text, ':');
+  const auto fail = [&](const std::string& why) {
+    *error = "'" + text + "': " + why;
+    return false;
+  };
+  if (parts.size() < 4 || parts.size() > 6) return fail("expected TYPE:OKTAS:BASE_M:TOP_M[:AREA_KM[:SEED]]");
+  CloudLayerSettings layer;
+  bool known = false;
+  for (int t = ATMO_CLOUD_CUMULUS; t < ATMO_CLOUD_VDB_FILE; ++t) {
+    if (parts[0] == cloud_type_name(static_cast<AtmoCloudLayerType>(t))) {
+      layer.type = static_cast<AtmoCloudLayerType>(t);
+      known = true;
+    }
+  }
+  if (!known) return fail("type '" + parts[0] + "' is not cumulus, stratus, overcast or cirrus (a VDB file: --vdb)");
+  std::string why;
+  uint64_t oktas = 0;
+  if (!parse_unsigned(parts[1], "oktas", INT32_MAX, &oktas, &why) ||
+      !parse_number(parts[2], "base", &layer.base_m, &why) || !parse_number(parts[3], "top", &layer.top_m, &why) ||
+      (parts.size() > 4 && !parse_number(parts[4], "area", &layer.area_size_km, &why)) ||
+      (parts.size() > 5 && !parse_unsigned(parts[5], "seed", UINT64_MAX, &layer.seed, &why)))
+    return fail(why);
+  layer.coverage_oktas = static_cast<int>(oktas);
+  *out = layer;
+  return true;
+}
+
+bool parse_vdb_layer(const std::string& text, CloudLayerSettings* out, std::string* error) {
+  const size_t colon = text.rfind(':');
+  CloudLayerSettings layer;
+  layer.type = ATMO_CLOUD_VDB_FILE;
+  layer.base_m = 0.0;  // the file's heights are kept: its origin on the airfield's datum
+  layer.vdb_path = text.substr(0, colon);
+  if (colon != std::string::npos) layer.vdb_grid = text.substr(colon + 1);
+  if (layer.vdb_path.empty()) {
+    *error = "'" + text + "': expected FILE[:GRID]";
+    return false;
+  }
+  *out = layer;
+  return true;
+}
 
 host_scene::CameraPose approach_path(double t) {
   const host_scene::TerrainOptions runway;  // heading 90: landing eastwards

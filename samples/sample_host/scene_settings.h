@@ -1,13 +1,53 @@
 // scene_settings.h — what the sample host shows: place, time, air, camera,
-// depth convention, exposure. Shared by the window and headless modes.
+// depth convention, exposure, the weather's cloud layers. Shared by the window
+// and headless modes.
 #pragma once
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
+#include "atmo/atmo.h"
 #include "atmo_host_scene/camera.h"
 
 namespace atmo::sample {
+
+// One cloud layer of the weather (an AtmoCloudLayer, in the host's units).
+// Heights are above the airfield datum (SceneSettings::origin, the clouds'
+// ENU origin); the area is a square of area_size_km centred at
+// (area_east_km, area_north_km) from the airfield. A VDB layer puts the
+// file's world origin at (area_east_km, area_north_km, base_m) and ignores
+// the other procedural fields.
+struct CloudLayerSettings {
+  AtmoCloudLayerType type = ATMO_CLOUD_CUMULUS;
+  int coverage_oktas = 4;
+  double base_m = 1200.0;
+  double top_m = 2500.0;
+  double area_size_km = 20.0;
+  double area_east_km = 0.0;
+  double area_north_km = 0.0;
+  uint64_t seed = 1;
+  std::string vdb_path;  // ATMO_CLOUD_VDB_FILE: the file; relative paths resolve against the working directory
+  std::string vdb_grid;  // its float grid; empty: "density"
+};
+
+// The weather: what set_clouds gets (SampleRenderer::set_clouds).
+struct CloudSettings {
+  std::vector<CloudLayerSettings> layers;
+  AtmoCloudDrawMode draw_mode = ATMO_CLOUD_DRAW_IMPOSTORS;
+  uint32_t march_resolution_divisor = 2;  // [1, 8]
+};
+
+// "cumulus", "stratus", "overcast", "cirrus", "vdb"; nullptr outside the enum.
+const char* cloud_type_name(AtmoCloudLayerType type);
+// "impostors", "direct", else nullptr (a mode this host has no name for).
+const char* cloud_draw_mode_name(uint32_t mode);
+
+// --cloud TYPE:OKTAS:BASE_M:TOP_M[:AREA_KM[:SEED]] (TYPE one of the procedural
+// names above) and --vdb FILE[:GRID]. False with *error saying which part of
+// the text is wrong and why; ranges are the plugin's to check (set_clouds).
+bool parse_cloud_layer(const std::string& text, CloudLayerSettings* out, std::string* error);
+bool parse_vdb_layer(const std::string& text, CloudLayerSettings* out, std::string* error);
 
 struct SceneSettings {
   host_scene::Geodetic origin{47.4647, 8.5492, 432.0};  // airfield datum (ENU origin)
@@ -22,6 +62,7 @@ struct SceneSettings {
   double ev100 = 15.0;
   double vfov_deg = 60.0;
   uint64_t seed = 1;
+  CloudSettings clouds;
 };
 
 // POSIX seconds ("1718982000") or an ISO 8601 UTC time stamp, read by the

@@ -1,6 +1,6 @@
 // Window mode: GLFW window (GL 4.5 core, else 3.3 core), free-fly camera,
-// Dear ImGui panel for time, place, air, depth convention, exposure and the
-// per-pass GPU timings.
+// Dear ImGui panel for time, place, air, depth convention, exposure, the
+// weather's cloud layers and the per-pass GPU timings.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -128,7 +128,110 @@ struct PanelState {
   bool animate_time = false;
   float time_rate = 60.0f;
   std::vector<std::string> errors;  // of the last frame that had any
+  bool apply_clouds = false;        // the Weather section's Apply was pressed
+  bool clouds_edited = false;       // the layers changed since the last Apply
+  bool clouds_ok = true;
+  std::string clouds_message;       // set_clouds' result
 };
+
+// A std::string edited through a fixed buffer (the Debian imgui has no imgui_stdlib).
+bool input_text(const char* label, std::string* text) {
+  char buffer[1024];
+  std::snprintf(buffer, sizeof buffer, "%s", text->c_str());
+  if (!ImGui::InputText(label, buffer, sizeof buffer)) return false;
+  *text = buffer;
+  return true;
+}
+
+// The Weather window: add and remove cloud layers; Apply calls set_clouds with them.
+void draw_weather(PanelState* panel, CloudSettings* clouds) {
+  ImGui::SetNextWindowPos(ImVec2(std::max(480.0f, ImGui::GetIO().DisplaySize.x - 390.0f), 10), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(380, 0), ImGuiCond_FirstUseEver);
+  ImGui::Begin("Weather");
+  ImGui::PushItemWidth(-170.0f);  // room for the labels
+  bool edited = false;
+  for (size_t i = 0; i < clouds->layers.size();) {
+    CloudLayerSettings& l = clouds->layers[i];
+    ImGui::PushID(static_cast<int>(i));
+    char title[64];
+    std::snprintf(title, sizeof title, "Layer %zu: %s", i + 1, cloud_type_name(l.type));
+    const bool open = ImGui::TreeNodeEx("layer", ImGuiTreeNodeFlags_DefaultOpen, "%s", title);
+    ImGui::SameLine();
+    const bool remove = ImGui::SmallButton("Remove");
+    if (open) {
+      int type = static_cast<int>(l.type);
+      if (ImGui::BeginCombo("Type", cloud_type_name(l.type))) {
+        for (int t = 0; t < ATMO_CLOUD_LAYER_TYPE_COUNT; ++t) {
+          if (ImGui::Selectable(cloud_type_name(static_cast<AtmoCloudLayerType>(t)), t == type)) type = t;
+        }
+        ImGui::EndCombo();
+      }
+      if (type != static_cast<int>(l.type)) {
+        // A VDB file keeps its own heights: its origin starts on the datum (as --vdb puts it).
+        if (type == ATMO_CLOUD_VDB_FILE) l.base_m = 0.0;
+        l.type = static_cast<AtmoCloudLayerType>(type);
+        edited = true;
+      }
+      if (l.type == ATMO_CLOUD_VDB_FILE) {
+        edited |= input_text("File", &l.vdb_path);
+        edited |= input_text("Grid (empty: density)", &l.vdb_grid);
+        edited |= ImGui::InputDouble("Origin east (km)", &l.area_east_km, 0.1, 1.0, "%.2f");
+        edited |= ImGui::InputDouble("Origin north (km)", &l.area_north_km, 0.1, 1.0, "%.2f");
+        edited |= ImGui::InputDouble("Origin up (m)", &l.base_m, 10.0, 100.0, "%.0f");
+      } else {
+        edited |= ImGui::SliderInt("Coverage (oktas)", &l.coverage_oktas, 0, 8);
+        edited |= ImGui::InputDouble("Base (m)", &l.base_m, 50.0, 500.0, "%.0f");
+        edited |= ImGui::InputDouble("Top (m)", &l.top_m, 50.0, 500.0, "%.0f");
+        edited |= ImGui::InputDouble("Area side (km)", &l.area_size_km, 1.0, 10.0, "%.1f");
+        edited |= ImGui::InputDouble("Area centre east (km)", &l.area_east_km, 1.0, 10.0, "%.1f");
+        edited |= ImGui::InputDouble("Area centre north (km)", &l.area_north_km, 1.0, 10.0, "%.1f");
+        edited |= ImGui::InputScalar("Seed", ImGuiDataType_U64, &l.seed);
+      }
+      ImGui::TreePop();
+    }
+    ImGui::PopID();
+    if (remove) {
+      clouds->layers.erase(clouds->layers.begin() + static_cast<std::ptrdiff_t>(i));
+      edited = true;
+    } else {
+      ++i;
+    }
+  }
+  if (ImGui::Button("Add layer")) {
+    clouds->layers.push_back(clouds->layers.empty() ? CloudLayerSettings{} : clouds->layers.back());
+    edited = true;
+  }
+  ImGui::TextUnformatted("Draw");
+  for (uint32_t mode = 0; mode < ATMO_CLOUD_DRAW_MODE_COUNT; ++mode) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%s", cloud_draw_mode_name(mode) ? cloud_draw_mode_name(mode) : "");
+    if (!*name) std::snprintf(name, sizeof name, "mode %u", mode);
+    ImGui::SameLine();
+    if (ImGui::RadioButton(name, clouds->draw_mode == mode)) {
+      clouds->draw_mode = static_cast<AtmoCloudDrawMode>(mode);
+      edited = true;
+    }
+  }
+  int divisor = static_cast<int>(clouds->march_resolution_divisor);
+  if (ImGui::SliderInt("March divisor", &divisor, 1, 8)) {
+    clouds->march_resolution_divisor = static_cast<uint32_t>(divisor);
+    edited = true;
+  }
+  panel->clouds_edited |= edited;
+  panel->apply_clouds = ImGui::Button("Apply");
+  if (panel->clouds_edited) {
+    ImGui::SameLine();
+    ImGui::TextDisabled("edited, not applied");
+  }
+  if (!panel->clouds_message.empty()) {
+    const ImVec4 colour = panel->clouds_ok ? ImVec4(0.6f, 0.9f, 0.6f, 1.0f) : ImVec4(1.0f, 0.35f, 0.3f, 1.0f);
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::TextColored(colour, "%s", panel->clouds_message.c_str());
+    ImGui::PopTextWrapPos();
+  }
+  ImGui::PopItemWidth();
+  ImGui::End();
+}
 
 void draw_panel(const SampleRenderer& renderer, const FrameReport& report, FlyCamera* fly, PanelState* panel,
                 SceneSettings* s) {
@@ -237,8 +340,8 @@ void draw_panel(const SampleRenderer& renderer, const FrameReport& report, FlyCa
         total += ms;
       }
       ImGui::TableNextColumn();
-      if (i >= kSectionSky && i <= kSectionLightGlows) {
-        const AtmoResult r = report.pass_results[static_cast<size_t>(i - kSectionSky)];
+      if (section_pass(i) >= 0) {
+        const AtmoResult r = report.pass_results[static_cast<size_t>(section_pass(i))];
         const char* name = r == INT32_MIN ? "not run" : renderer.api().result_string(r);
         ImGui::TextDisabled("%s", std::strncmp(name, "ATMO_", 5) == 0 ? name + 5 : name);
       }
@@ -268,6 +371,7 @@ void draw_panel(const SampleRenderer& renderer, const FrameReport& report, FlyCa
     for (const std::string& e : panel->errors) ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "%s", e.c_str());
   }
   ImGui::End();
+  draw_weather(panel, &s->clouds);
 }
 
 }  // namespace
@@ -318,6 +422,7 @@ int run_window(const Options& options, SceneSettings settings) {
   FlyCamera fly;
   PanelState panel;
   panel.smoothed_ms.fill(std::nan(""));
+  panel.apply_clouds = !settings.clouds.layers.empty();  // the command line's layers
   FrameReport report;
   std::string last_printed;
   double last_time = glfwGetTime();
@@ -334,6 +439,14 @@ int run_window(const Options& options, SceneSettings settings) {
     ImGui::NewFrame();
     update_camera(window.handle, renderer->terrain(), dt, &fly, &settings.pose);
     if (panel.animate_time) settings.utc_posix_s += dt * panel.time_rate;
+    if (panel.apply_clouds) {
+      // Blocks the window while the plugin generates the layers (seconds for large ones).
+      panel.clouds_ok = renderer->set_clouds(settings, &panel.clouds_message);
+      panel.clouds_edited = false;
+      std::fprintf(panel.clouds_ok ? stdout : stderr, "%s%s\n", panel.clouds_ok ? "" : "atmo-sample-host: ",
+                   panel.clouds_message.c_str());
+      if (!panel.clouds_ok) status = 1;
+    }
     draw_panel(*renderer, report, &fly, &panel, &settings);
     ImGui::Render();
 

@@ -137,12 +137,9 @@ void set_clouds(const sc::Scenario& scenario, atmo::Context& context) {
     }
     layers.push_back(l);
   }
-  AtmoCloudsState state = atmo::make<AtmoCloudsState>(ATMO_TYPE_CLOUDS_STATE);
-  state.origin_geodetic[0] = scenario.location.latitude_deg;
-  state.origin_geodetic[1] = scenario.location.longitude_deg;
-  state.origin_geodetic[2] = scenario.location.height_m;
-  state.layers = layers.data();
-  state.layer_count = static_cast<uint32_t>(layers.size());
+  const AtmoCloudsState state =
+      atmo::clouds_state(scenario.location.latitude_deg, scenario.location.longitude_deg, scenario.location.height_m,
+                         layers.data(), static_cast<uint32_t>(layers.size()));
   const AtmoResult r = context.set_clouds(state);
   if (r != ATMO_SUCCESS) std::printf("  clouds: %s\n", context.last_error().c_str());
 }

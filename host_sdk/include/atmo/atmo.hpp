@@ -40,6 +40,21 @@ T make(AtmoStructType type) {
   return value;
 }
 
+// An AtmoCloudsState over count layers of this header's AtmoCloudLayer (the
+// stride, layer_size) in the ENU frame at the given geodetic origin (degrees,
+// metres, WGS84); the quality knobs are 0, the plugin's defaults.
+inline AtmoCloudsState clouds_state(double latitude_deg, double longitude_deg, double height_m,
+                                    const AtmoCloudLayer* layers, uint32_t count) {
+  auto state = make<AtmoCloudsState>(ATMO_TYPE_CLOUDS_STATE);
+  state.origin_geodetic[0] = latitude_deg;
+  state.origin_geodetic[1] = longitude_deg;
+  state.origin_geodetic[2] = height_m;
+  state.layers = layers;
+  state.layer_count = count;
+  state.layer_size = static_cast<uint32_t>(sizeof(AtmoCloudLayer));
+  return state;
+}
+
 class Plugin {
  public:
   explicit Plugin(const std::string& path, const char* host_name = "atmo C++ host",
