@@ -109,6 +109,19 @@ class Host {
                                (ctx_ ? api_.last_error(ctx_) : ""));
   }
 
+  void set_utc(double utc_posix_s) {
+    auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+    frame.utc_posix_s = utc_posix_s;
+    check(api_.set_frame(ctx_, &frame), "set_frame");
+  }
+
+  // The Sun's apparent elevation at the view's eye (set_view first), degrees.
+  double sun_elevation_deg() {
+    auto l = atmo::make<AtmoLighting>(ATMO_TYPE_LIGHTING);
+    check(api_.get_lighting(view_, &l), "get_lighting");
+    return glm::degrees(l.sun_elevation_rad);
+  }
+
   // set_clouds through the ABI (the layers and knobs as a host gives them).
   void set_clouds(const AtmoCloudsState& s) { check(api_.set_clouds(ctx_, &s), "set_clouds"); }
 

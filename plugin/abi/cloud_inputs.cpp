@@ -235,9 +235,16 @@ clouds::CloudLight cloud_light(AtmoContext_T* ctx, AtmoView_T* view, const core:
   const core::BodyIlluminance lit = core::body_illuminance(scene, ctx->transmittance, altitude);
   const glm::dvec3 sun_lux = lit.sun_lux, moon_lux = lit.moon_lux;
   const bool moon = moon_lux.g > sun_lux.g;
-  const glm::dmat3 to_clouds = cloud_enu_from_eye_enu(ctx->clouds, view->eye.ecef_from_enu);
   clouds::CloudLight light;
-  light.direction_enu = glm::normalize(to_clouds * (moon ? scene.bodies.moon_enu : scene.sun_direction_enu));
+  // The direction from the clouds' origin (the same for every view); the
+  // eye's, turned into the clouds' axes, should the ephemeris refuse it.
+  std::string error;
+  const std::optional<core::SkyBodies> at_origin =
+      ctx->clouds.bodies.get(ctx->utc_posix_s, ctx->dut1_s, ctx->clouds.origin, ctx->clouds.origin_ecef_m, &error);
+  const glm::dmat3 to_clouds = cloud_enu_from_eye_enu(ctx->clouds, view->eye.ecef_from_enu);
+  light.direction_enu =
+      at_origin ? glm::normalize(moon ? at_origin->moon_enu : at_origin->sun_enu)
+                : glm::normalize(to_clouds * (moon ? scene.bodies.moon_enu : scene.sun_direction_enu));
   light.illuminance_lux = moon ? moon_lux : sun_lux;
   light.sky_radiance = sky.average_radiance;
   // The ground under the clouds: Lambertian, lit by the light and the sky.

@@ -13,6 +13,7 @@
 #include "atmo/atmo.h"
 #include "abi/cloud_relight.h"
 #include "abi/validation.h"
+#include "core/astro/sky_bodies.h"
 #include "core/clouds/cloud_clipmap.h"
 #include "core/clouds/cloud_field.h"
 #include "core/clouds/cloud_lighting.h"
@@ -57,6 +58,10 @@ struct ContextClouds {
   double mean_centre_height_m = 0.0;         // of the clouds' centres, above origin: where the light is taken
   double lowest_base_m = 0.0, highest_top_m = 0.0;  // of the grids' boxes, above origin (the sky passes' shadow)
   CloudSettings settings;
+  // The Sun and Moon seen from the clouds' origin: the clouds are lit from
+  // there, so the light (and what is relit when) is one per frame, whatever
+  // the views and their order.
+  core::SkyBodiesCache bodies;
   double relight_ms = 0.0;                   // the last relight, for logs and benchmarks
   // The layer march's clipmap (update_clipmap): buckets once per field, the
   // prototypes' mips per light, the levels per (light, eye cell).

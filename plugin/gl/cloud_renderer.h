@@ -78,6 +78,7 @@ class CloudRenderer {
 
   size_t atlas_bytes() const { return atlas_bytes_; }
   size_t impostor_bytes() const { return impostors_.bytes(); }
+  size_t layer_bytes() const { return layer_.texture_bytes(); }
   const CloudDrawStats& last_stats() const { return stats_; }
 
  private:

@@ -80,7 +80,8 @@ int main(int argc, char** argv) {
   std::string draw_mode = sample::cloud_draw_mode_name(settings.clouds.draw_mode);
   app.add_option("--cloud-draw", draw_mode, "How the clouds pass draws")
       ->check(CLI::IsMember({sample::cloud_draw_mode_name(ATMO_CLOUD_DRAW_IMPOSTORS),
-                             sample::cloud_draw_mode_name(ATMO_CLOUD_DRAW_DIRECT)}))
+                             sample::cloud_draw_mode_name(ATMO_CLOUD_DRAW_DIRECT),
+                             sample::cloud_draw_mode_name(ATMO_CLOUD_DRAW_LAYER)}))
       ->capture_default_str();
   app.add_option("--cloud-divisor", settings.clouds.march_resolution_divisor,
                  "The cloud march renders at 1/N of the viewport per axis (march_resolution_divisor)")
@@ -118,8 +119,8 @@ int main(int argc, char** argv) {
       settings.clouds.layers.push_back(layer);
     }
   }
-  settings.clouds.draw_mode =
-      draw_mode == sample::cloud_draw_mode_name(ATMO_CLOUD_DRAW_DIRECT) ? ATMO_CLOUD_DRAW_DIRECT : ATMO_CLOUD_DRAW_IMPOSTORS;
+  for (uint32_t m = 0; m < ATMO_CLOUD_DRAW_MODE_COUNT; ++m)
+    if (draw_mode == sample::cloud_draw_mode_name(m)) settings.clouds.draw_mode = m;
   settings.pose = sample::approach_path(0.0);
 
   return options.frames > 0 ? sample::run_headless(options, settings) : sample::run_window(options, settings);

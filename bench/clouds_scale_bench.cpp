@@ -1,0 +1,178 @@
+// atmo_clouds_scale_bench — the clouds pass at simulator scale (issue 19):
+// every layer type, from below, inside and above, cumulus at 1, 4 and 8
+// oktas over growing areas, the Sun high and low, at 1280x720 and
+// 1920x1080 on this machine's GL. Each case prints the clouds pass's wall
+// time to glFinish (median of the timed frames), the reference pair drawn in
+// the same frames (the LUT sky pass + the aerial-perspective pass, timed
+// alike) and their ratio; set_clouds' wall time, the first frame's clouds
+// pass (it builds the clipmap), and the memory (the field's density, the
+// clipmap on the CPU, its GL textures). The eye moves 5 m a frame.
+//
+//   atmo_clouds_scale_bench [--mode layer|impostors|direct] [--frames N]
+//                           [--sizes 1280x720,1920x1080] [--only SUBSTRING] [--csv FILE]
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "cloud_scene.h"
+
+namespace {
+
+using cloud_bench::Camera;
+using cloud_bench::Host;
+
+struct Case {
+  std::string name;
+  uint32_t type;
+  int oktas;
+  double base_m, top_m, area_m;
+  Camera cam;
+};
+
+std::vector<Case> cases() {
+  std::vector<Case> out;
+  for (int oktas : {1, 4, 8})
+    for (double km : {20.0, 100.0, 400.0})
+      out.push_back({"cumulus " + std::to_string(oktas) + " oktas, " + std::to_string(int(km)) + " km, eye 3 km",
+                     ATMO_CLOUD_CUMULUS, oktas, 1000.0, 2800.0, km * 1000.0, {0.0, 0.0, 3000.0, -5.0}});
+  const struct {
+    const char* name;
+    uint32_t type;
+    int oktas;
+    double base, top;
+  } decks[] = {{"stratus 6 oktas", ATMO_CLOUD_STRATUS, 6, 800.0, 1300.0},
+               {"overcast", ATMO_CLOUD_OVERCAST, 8, 600.0, 1100.0}};
+  for (const auto& d : decks) {
+    out.push_back({std::string(d.name) + ", 20 km, from below", d.type, d.oktas, d.base, d.top, 20000.0,
+                   {0.0, 0.0, 300.0, 20.0}});
+    out.push_back({std::string(d.name) + ", 20 km, inside", d.type, d.oktas, d.base, d.top, 20000.0,
+                   {0.0, 0.0, 0.5 * (d.base + d.top), 0.0}});
+    out.push_back({std::string(d.name) + ", 20 km, from above", d.type, d.oktas, d.base, d.top, 20000.0,
+                   {0.0, 0.0, d.top + 1500.0, -20.0}});
+  }
+  out.push_back({"cirrus 4 oktas, 8-9 km, 20 km, overhead", ATMO_CLOUD_CIRRUS, 4, 8000.0, 9000.0, 20000.0,
+                 {0.0, 0.0, 300.0, 30.0}});
+  return out;
+}
+
+double now_ms() {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+// The UTC (2024-07-10 morning) at which the Sun stands `elevation_deg` up at the camera.
+double utc_for_sun(Host& host, const Camera& cam, double elevation_deg) {
+  double lo = 1720576800.0 - 5 * 3600.0, hi = 1720576800.0 + 6 * 3600.0;  // 2024-07-10 02:00 .. 13:00 UTC
+  host.set_view(cam);
+  for (int i = 0; i < 40; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    host.set_utc(mid);
+    (host.sun_elevation_deg() < elevation_deg ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  uint32_t mode = ATMO_CLOUD_DRAW_LAYER;
+  int frames = 5;
+  std::vector<std::pair<int, int>> sizes = {{1280, 720}, {1920, 1080}};
+  std::string only, csv_path;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const char* v = i + 1 < argc ? argv[i + 1] : "";
+    if (a == "--mode") {
+      const std::string m = v;
+      mode = m == "direct" ? ATMO_CLOUD_DRAW_DIRECT : m == "impostors" ? ATMO_CLOUD_DRAW_IMPOSTORS : ATMO_CLOUD_DRAW_LAYER;
+      ++i;
+    } else if (a == "--frames") {
+      frames = std::max(1, std::atoi(v));
+      ++i;
+    } else if (a == "--only") {
+      only = v;
+      ++i;
+    } else if (a == "--csv") {
+      csv_path = v;
+      ++i;
+    } else if (a == "--sizes") {
+      sizes.clear();
+      for (const char* p = v; *p;) {
+        int w = 0, h = 0, n = 0;
+        if (std::sscanf(p, "%dx%d%n", &w, &h, &n) != 2) break;
+        sizes.push_back({w, h});
+        p += n;
+        if (*p == ',') ++p;
+      }
+      ++i;
+    } else {
+      std::fprintf(stderr, "atmo_clouds_scale_bench: unknown option %s\n", a.c_str());
+      return 2;
+    }
+  }
+  FILE* csv = csv_path.empty() ? nullptr : std::fopen(csv_path.c_str(), "w");
+  if (csv)
+    std::fprintf(csv, "size,case,sun_deg,clouds,set_clouds_ms,first_frame_ms,clouds_ms,pair_ms,ratio,field_MiB,"
+                      "clipmap_MiB,gl_MiB,clipmap_ms\n");
+  for (const auto& [w, h] : sizes) {
+    Host host(w, h);
+    std::printf("== %dx%d, %s, mode %u, %d timed frames a case ==\n", w, h, host.gl().renderer().c_str(), mode, frames);
+    std::printf("%-48s %5s %7s %9s %9s %9s %8s %6s %7s %7s %7s\n", "case", "sun", "clouds", "set_ms", "first_ms",
+                "clouds_ms", "pair_ms", "ratio", "fieldMB", "mapMB", "glMB");
+    for (const Case& c : cases()) {
+      if (!only.empty() && c.name.find(only) == std::string::npos) continue;
+      for (double sun : {60.0, 5.0}) {
+        const double utc = utc_for_sun(host, c.cam, sun);
+        host.set_utc(utc);
+        AtmoCloudLayer layer = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
+        layer.type = c.type;
+        layer.coverage_oktas = c.oktas;
+        layer.base_m = c.base_m;
+        layer.top_m = c.top_m;
+        layer.area_size_m = c.area_m;
+        layer.seed = 3;
+        const double t0 = now_ms();
+        host.set_clouds(cloud_bench::clouds_state(&layer, mode));
+        const double set_ms = now_ms() - t0;
+        Camera cam = c.cam;
+        host.set_view(cam);
+        host.draw_sky();
+        const double first_ms = host.clouds_ms();
+        std::vector<double> clouds, pair;
+        for (int f = 0; f < frames; ++f) {
+          cam.east_m += 5.0;
+          host.set_view(cam);
+          host.target().bind();
+          glClearColor(0, 0, 0, 1);
+          glClear(GL_COLOR_BUFFER_BIT);
+          const double sky = host.pass_ms(ATMO_PASS_SKY) + host.pass_ms(ATMO_PASS_AERIAL_PERSPECTIVE);
+          pair.push_back(sky);
+          clouds.push_back(host.clouds_ms());
+        }
+        const atmo::abi::ContextClouds& cc = host.context()->clouds;
+        const double cm = median(clouds), pm = median(pair);
+        const double field_mib = cc.field.memory_bytes() / 1048576.0;
+        const double map_mib = cc.clipmap.memory_bytes() / 1048576.0;
+        const double gl_mib = host.context()->cloud_renderer.layer_bytes() / 1048576.0;
+        std::printf("%-48s %5.0f %7zu %9.0f %9.0f %9.1f %8.1f %6.2f %7.1f %7.1f %7.1f\n", c.name.c_str(), sun,
+                    cc.field.instances.size(), set_ms, first_ms, cm, pm, cm / pm, field_mib, map_mib, gl_mib);
+        std::fflush(stdout);
+        if (csv)
+          std::fprintf(csv, "%dx%d,%s,%.0f,%zu,%.1f,%.1f,%.2f,%.2f,%.3f,%.2f,%.2f,%.2f,%.1f\n", w, h, c.name.c_str(), sun,
+                       cc.field.instances.size(), set_ms, first_ms, cm, pm, cm / pm, field_mib, map_mib, gl_mib,
+                       cc.clipmap_ms);
+      }
+    }
+  }
+  if (csv) std::fclose(csv);
+  return 0;
+}
