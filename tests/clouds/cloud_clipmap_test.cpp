@@ -158,7 +158,7 @@ TEST(CloudClipmap, LayerMarchMatchesThePerCloudMarchOnADeck) {
 // The step budget holds whatever the ray's length, and the clipmap depends on
 // the eye's cell only: two eyes in one cell build bit-identical levels.
 TEST(CloudClipmap, BudgetAndDeterminism) {
-  const Scene s = make_scene(CloudLayerType::Cumulus, 6, 1000.0, 2000.0, 20000.0, glm::dvec3(0.0, 0.6, 0.8));
+  const Scene s = make_scene(CloudLayerType::Cumulus, 6, 1000.0, 2000.0, 8000.0, glm::dvec3(0.0, 0.6, 0.8));
   ClipmapSpec spec;
   const InstanceBuckets buckets = bucket_instances(s.field);
   const std::vector<PrototypeMips> mips = build_prototype_mips(s.field, s.depths, s.light.direction_enu);
@@ -185,6 +185,75 @@ TEST(CloudClipmap, BudgetAndDeterminism) {
       EXPECT_TRUE(std::isfinite(r.radiance.g) && r.radiance.g >= 0.0f) << el;
     }
   }
+}
+
+}  // namespace
+
+namespace {
+
+// Every layer type at 0, 4 and 8 oktas, the eye below, inside and above the layer
+// and at 20 km, the light at -10, 5 and 90 degrees (below the horizon: light
+// from underneath, as the Moon's or a set Sun's direction can be): every
+// ray's radiance finite and non-negative, its transmittance in [0, 1], its
+// steps within the budget.
+TEST(CloudClipmap, StabilitySweepOverTypesCoverEyesAndLight) {
+  const CloudLayerType types[] = {CloudLayerType::Cumulus, CloudLayerType::Stratus, CloudLayerType::Overcast,
+                                  CloudLayerType::Cirrus};
+  const twin::CloudOctaves oc = default_octaves();
+  int rays = 0, bad = 0;
+  for (CloudLayerType type : types)
+    for (int oktas = 0; oktas <= 8; oktas += (type == CloudLayerType::Overcast ? 8 : 4)) {
+      CloudLayerSpec spec;
+      spec.type = type;
+      spec.coverage_oktas = oktas;
+      spec.base_m = type == CloudLayerType::Cirrus ? 8000.0 : 1000.0;
+      spec.top_m = spec.base_m + (type == CloudLayerType::Cumulus ? 1500.0 : 600.0);
+      spec.area_size_m = 3000.0;
+      spec.max_total_voxels = 100000;  // coarse voxels: the sweep is about robustness, not detail
+      spec.seed = static_cast<uint64_t>(oktas);
+      const CloudField field = generate_cloud_layer(spec).field;
+      if (field.instances.empty()) {
+        EXPECT_EQ(oktas, 0);
+        continue;
+      }
+      for (double sun_deg : {-10.0, 5.0, 90.0}) {
+        const double e = sun_deg * M_PI / 180.0;
+        CloudLight light;
+        light.direction_enu = glm::dvec3(0.0, std::cos(e), std::sin(e));
+        light.illuminance_lux = glm::dvec3(sun_deg < 0.0 ? 0.1 : 1.0e5);
+        light.sky_radiance = glm::dvec3(sun_deg < 0.0 ? 1e-3 : 5000.0);
+        light.ground_radiance = glm::dvec3(sun_deg < 0.0 ? 1e-4 : 1000.0);
+        std::vector<LightDepths> depths;
+        for (const CloudVolume& v : field.prototypes) depths.push_back(compute_light_depths(v, light.direction_enu));
+        ClipmapSpec cs;
+        cs.size = 64;
+        const InstanceBuckets buckets = bucket_instances(field);
+        const std::vector<PrototypeMips> mips = build_prototype_mips(field, depths, light.direction_enu);
+        for (double eye_z : {spec.base_m - 500.0, 0.5 * (spec.base_m + spec.top_m), spec.top_m + 2000.0, 20000.0}) {
+          const glm::dvec3 eye(100.0, -300.0, eye_z);
+          const CloudClipmap map = build_clipmap(field, mips, buckets, cs, clipmap_cell(field, cs, eye));
+          const twin::CloudLayerMarch m = make_layer_march(field, map, eye, light, 1.0f, 96);
+          for (int d = 0; d < 12; ++d) {
+            const double el = (-90.0 + 180.0 * d / 11.0) * M_PI / 180.0, az = 0.7 * d;
+            const glm::dvec3 dir(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));
+            const twin::CloudLayerSample r = march_layer_ray(map, m, oc, dir, 1e30);
+            ++rays;
+            const bool ok = std::isfinite(r.radiance.r) && std::isfinite(r.radiance.g) && std::isfinite(r.radiance.b) &&
+                            r.radiance.r >= 0.0f && r.radiance.g >= 0.0f && r.radiance.b >= 0.0f &&
+                            r.transmittance >= 0.0f && r.transmittance <= 1.0f && r.steps <= 96 &&
+                            std::isfinite(r.depth_m);
+            if (!ok) {
+              ++bad;
+              ADD_FAILURE() << cloud_layer_type_name(type) << " " << oktas << " oktas, sun " << sun_deg << " deg, eye "
+                            << eye_z << " m, ray " << d << ": L " << r.radiance.g << " T " << r.transmittance
+                            << " steps " << r.steps;
+            }
+          }
+        }
+      }
+    }
+  std::printf("stability sweep: %d rays, %d bad\n", rays, bad);
+  EXPECT_GT(rays, 500);
 }
 
 }  // namespace
