@@ -30,17 +30,7 @@ constexpr double kMoonUtc = 1734220800.0; // 2024-12-15T00:00Z: a full Moon ~60
 
 // A 12 km overcast deck, 600-1100 m (tau >= 11.5 vertically), centred on the
 // eye or moved `east_m` away.
-AtmoCloudLayer deck(double east_m = 0.0) {
-  AtmoCloudLayer d = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
-  d.type = ATMO_CLOUD_OVERCAST;
-  d.coverage_oktas = 8;
-  d.base_m = 600.0;
-  d.top_m = 1100.0;
-  d.area_size_m = 12000.0;
-  d.area_centre_enu_m[0] = east_m;
-  d.seed = 2;
-  return d;
-}
+AtmoCloudLayer deck(double east_m = 0.0) { return overcast_deck(12000.0, east_m); }
 
 void set_clouds(Fixture &f, const AtmoCloudLayer *layer) {
   const AtmoCloudsState s = clouds_at_innsbruck(layer, layer ? 1 : 0);
