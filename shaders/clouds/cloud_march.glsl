@@ -30,8 +30,9 @@ struct CloudMarch {
 // < 1e-6 of its clear value behind a deck) plus < 1e-6 of the light the cloud
 // scatters from beyond the stop. A transmittance above it is kept as marched,
 // so a thin cloud is not darkened. Stored as 1 - T in the half-float image,
-// T = 0 is exact (alpha 1), where a residual 1e-4 read as 4.9e-4 (the half
-// float's step below 1) and let ~1e6 cd/m^2 of the disc through.
+// T = 0 is exact (alpha 1), where the residual kept across a deck's tiles
+// (up to 1e-3) read as 4.9e-4 (the half float's step below 1) and let
+// ~1e6 cd/m^2 of the disc through.
 const float CLOUD_OPAQUE_TRANSMITTANCE = 1e-6f;
 
 struct CloudSample {
