@@ -55,6 +55,11 @@ atmo::support::Image render_of(const std::string& camera) {
   return img;
 }
 
+// Pixels from the image's centre (the camera's axis) to pixel (x, y)'s centre.
+double from_centre(const atmo::support::Image& img, int x, int y) {
+  return std::hypot(x + 0.5 - 0.5 * img.width, y + 0.5 - 0.5 * img.height);
+}
+
 size_t camera_index(const sc::Scenario& s, const std::string& name) {
   for (size_t i = 0; i < s.cameras.size(); ++i)
     if (s.cameras[i].name == name) return i;
@@ -74,7 +79,7 @@ TEST(OvercastLowSun, NoSunDiscThroughTheDeck) {
       for (int x = 0; x < img.width; ++x) {
         const double l = atmo::support::luminance(img.pixel(x, y));
         all.push_back(l);
-        if (std::hypot(x + 0.5 - 0.5 * img.width, y + 0.5 - 0.5 * img.height) <= pixels_per_deg) near_sun = std::max(near_sun, l);
+        if (from_centre(img, x, y) <= pixels_per_deg) near_sun = std::max(near_sun, l);
       }
     std::nth_element(all.begin(), all.begin() + all.size() / 2, all.end());
     const double median = all[all.size() / 2];
@@ -149,7 +154,7 @@ TEST(OvercastLowSun, TheDecksBaseAgainstTheTwoStreamEstimate) {
   int n = 0;
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x)
-      if (std::hypot(x + 0.5 - 0.5 * img.width, y + 0.5 - 0.5 * img.height) <= 3.0 * pixels_per_deg) {
+      if (from_centre(img, x, y) <= 3.0 * pixels_per_deg) {
         sum += atmo::support::luminance(img.pixel(x, y));
         ++n;
       }
