@@ -3,12 +3,16 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
+#include <map>
 #include <glm/gtc/matrix_transform.hpp>
 #include <thread>
 #include <vector>
 
 #include "atmo/atmo.hpp"
 #include "core/atmosphere/atmosphere_model.h"
+#include "core/clouds/cloud_transmittance.h"
+#include "core/clouds/procedural_clouds.h"
 #include "core/scene/scene.h"
 #include "core/astro/solar_position.h"
 
@@ -35,6 +39,48 @@ void BM_MultipleScatteringTable(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_MultipleScatteringTable)->Args({32, 32})->Args({64, 32})->Unit(benchmark::kMillisecond);
+
+// get_lighting's cloud term (clouds::transmittance_along_ray): one ray from
+// 300 m under an 8-okta cumulus layer (1000-2800 m, range(0) km square)
+// towards the Sun at range(1) degrees; counters: the layer's instances, the
+// bucket grid's build time (once per set_clouds) and its memory.
+void BM_CloudTransmittanceAlongRay(benchmark::State& state) {
+  struct Layer {
+    atmo::clouds::CloudField field;
+    atmo::clouds::CloudRayIndex index;
+    double build_ms = 0.0;
+  };
+  static std::map<int64_t, Layer> layers;
+  Layer& l = layers[state.range(0)];
+  if (l.field.instances.empty()) {
+    atmo::clouds::CloudLayerSpec spec;
+    spec.coverage_oktas = 8;
+    spec.base_m = 1000.0;
+    spec.top_m = 2800.0;
+    spec.area_size_m = 1000.0 * static_cast<double>(state.range(0));
+    spec.seed = 1;
+    l.field = atmo::clouds::generate_cloud_layer(spec).field;
+    const auto t0 = std::chrono::steady_clock::now();
+    l.index = atmo::clouds::build_cloud_ray_index(l.field);
+    l.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  }
+  const double e = static_cast<double>(state.range(1)) * M_PI / 180.0;
+  double azimuth = 0.0;
+  for (auto _ : state) {
+    const glm::dvec3 dir(std::cos(e) * std::sin(azimuth), std::cos(e) * std::cos(azimuth), std::sin(e));
+    benchmark::DoNotOptimize(atmo::clouds::transmittance_along_ray(l.field, l.index, glm::dvec3(0.0, 0.0, 300.0), dir));
+    azimuth += 0.1;
+  }
+  state.counters["instances"] = static_cast<double>(l.field.instances.size());
+  state.counters["index_build_ms"] = l.build_ms;
+  state.counters["index_KiB"] = static_cast<double>(l.index.memory_bytes()) / 1024.0;
+}
+BENCHMARK(BM_CloudTransmittanceAlongRay)
+    ->Args({20, 60})
+    ->Args({20, 5})
+    ->Args({100, 60})
+    ->Args({100, 5})
+    ->Unit(benchmark::kMicrosecond);
 
 void BM_SolarPosition(benchmark::State& state) {
   double t = 1.7e9;

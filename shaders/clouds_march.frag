@@ -32,7 +32,10 @@ void main() {
     float opacity = w * (1.0f - s.transmittance);
     radiance += transmittance * (w * s.radiance * air_transmittance + opacity * air_inscatter);
     transmittance *= 1.0f - opacity;
-    if (transmittance < 1e-3f) break;
+    if (transmittance < CLOUD_OPAQUE_TRANSMITTANCE) {  // cloud_march.glsl: nothing behind shows
+      transmittance = 0.0f;
+      break;
+    }
   }
   out_color = vec4(radiance * u_exposure, 1.0f - transmittance);
 }

@@ -216,6 +216,7 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
     c.lowest_base_m = std::min(c.lowest_base_m, i.origin_enu_m.z);
     c.highest_top_m = std::max(c.highest_top_m, i.origin_enu_m.z + double(v.density.nz) * v.voxel_size_m);
   }
+  c.ray_index = clouds::build_cloud_ray_index(c.field);
   c.depths.resize(c.field.prototypes.size());
   for (size_t p = 0; p < c.field.prototypes.size(); ++p)
     clouds::compute_ambient_depths(c.field.prototypes[p], &c.depths[p],
@@ -317,6 +318,13 @@ glm::dvec3 eye_in_cloud_frame(const ContextClouds& c, const glm::dvec3& eye_ecef
 
 glm::dmat3 cloud_enu_from_eye_enu(const ContextClouds& c, const glm::dmat3& ecef_from_eye_enu) {
   return glm::transpose(c.ecef_from_enu) * ecef_from_eye_enu;
+}
+
+double cloud_transmittance_from_eye(const ContextClouds& c, const glm::dvec3& eye_ecef_m,
+                                    const glm::dmat3& ecef_from_eye_enu, const glm::dvec3& direction_eye_enu) {
+  if (c.empty()) return 1.0;
+  const glm::dvec3 dir = glm::normalize(cloud_enu_from_eye_enu(c, ecef_from_eye_enu) * direction_eye_enu);
+  return clouds::transmittance_along_ray(c.field, c.ray_index, eye_in_cloud_frame(c, eye_ecef_m), dir);
 }
 
 }  // namespace atmo::abi

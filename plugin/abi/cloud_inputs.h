@@ -19,6 +19,7 @@
 #include "core/clouds/cloud_lighting.h"
 #include "core/clouds/cloud_optics.h"
 #include "core/clouds/cloud_shadow.h"
+#include "core/clouds/cloud_transmittance.h"
 #include "core/clouds/impostor_policy.h"
 #include "core/geo/geodesy.h"
 
@@ -48,6 +49,7 @@ struct CloudSettings {
 struct ContextClouds {
   CloudRelightSlot relight;                  // first: see CloudRelightSlot
   clouds::CloudField field;
+  clouds::CloudRayIndex ray_index;          // the field's instances in buckets (get_lighting's Sun and Moon)
   std::vector<clouds::LightDepths> depths;  // per prototype; tau_light for lit_direction_enu
   glm::dvec3 lit_direction_enu{0.0};        // the clouds' frame; zero: never lit
   uint64_t version = 0;                      // bumps when the field or its light grids change (GL re-uploads)
@@ -113,6 +115,11 @@ bool update_cloud_shadow(ContextClouds* clouds);
 // The eye in the clouds' ENU frame, and the rotation from the view's ENU axes
 // (at the eye) to the clouds' ENU axes.
 glm::dvec3 eye_in_cloud_frame(const ContextClouds& clouds, const glm::dvec3& eye_ecef_m);
+
+// The clouds' direct transmittance exp(-tau) from the eye towards a light
+// (unit, the eye's ENU): get_lighting's Sun and Moon. 1 without clouds.
+double cloud_transmittance_from_eye(const ContextClouds& clouds, const glm::dvec3& eye_ecef_m,
+                                    const glm::dmat3& ecef_from_eye_enu, const glm::dvec3& direction_eye_enu);
 glm::dmat3 cloud_enu_from_eye_enu(const ContextClouds& clouds, const glm::dmat3& ecef_from_eye_enu);
 
 }  // namespace atmo::abi

@@ -2,7 +2,9 @@
 // march of the field's summed extinction (field_density_at, fine steps)
 // along the light from ground points; the affine uv map slides a point along
 // the light; a grazing light or no clouds gives no shadow; a thick deck
-// shadows to (near) black.
+// shadows to (near) black. The direct transmittance along one ray
+// (core/clouds/cloud_transmittance, get_lighting's Sun at the eye) against the
+// same independent march, and its buckets against visiting every box.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,6 +13,7 @@
 #include <random>
 
 #include "core/clouds/cloud_shadow.h"
+#include "core/clouds/cloud_transmittance.h"
 #include "core/clouds/procedural_clouds.h"
 #include "core/atmosphere/shader_twin.h"
 
@@ -36,10 +39,12 @@ glm::dvec3 light(double elevation_deg, double azimuth_deg) {
   return {std::cos(e) * std::sin(a), std::cos(e) * std::cos(a), std::sin(e)};
 }
 
-// exp(-integral of sigma_t) from g towards the light, fine midpoint steps.
-double reference_transmittance(const CloudField& f, const glm::dvec3& g, const glm::dvec3& l) {
+// exp(-integral of sigma_t) from g towards the light, fine midpoint steps,
+// over `length` metres (default: up to 4 km above g).
+double reference_transmittance(const CloudField& f, const glm::dvec3& g, const glm::dvec3& l, double length = 0.0) {
   const double extinction = f.prototypes[0].optics.extinction_per_m;
-  const double length = 4000.0 / l.z, dt = 2.0;
+  const double dt = 2.0;
+  if (length <= 0.0) length = 4000.0 / l.z;
   double tau = 0.0;
   for (double t = 0.5 * dt; t < length; t += dt) tau += field_density_at(f, g + l * t) * dt * extinction;
   return std::exp(-tau);
@@ -92,7 +97,7 @@ TEST(CloudShadow, NoShadowWithoutCloudsOrWithAGrazingLight) {
   for (float t : below.transmittance) ASSERT_EQ(t, 1.0f);
 }
 
-TEST(CloudShadow, AnOvercastDeckShadowsTheGround) {
+CloudField overcast_field() {
   CloudLayerSpec spec;
   spec.type = CloudLayerType::Overcast;
   spec.coverage_oktas = 8;
@@ -100,7 +105,11 @@ TEST(CloudShadow, AnOvercastDeckShadowsTheGround) {
   spec.top_m = 1100.0;
   spec.area_size_m = 6000.0;
   spec.seed = 3;
-  const CloudField f = generate_cloud_layer(spec).field;
+  return generate_cloud_layer(spec).field;
+}
+
+TEST(CloudShadow, AnOvercastDeckShadowsTheGround) {
+  const CloudField f = overcast_field();
   const CloudShadowMap map = compute_cloud_shadow_map(f, light(45.0, 180.0), 128);
   const double t = sample_cloud_shadow(map, glm::dvec3(0.0, 0.0, 0.0));
   std::printf("under the deck's centre: direct transmittance %.2e\n", t);
@@ -147,6 +156,66 @@ TEST(CloudShadow, TheSkyPassesLookupIsTheMapsOwn) {
   EXPECT_GT(shadowed, 20);
   cs.enabled = 0;
   EXPECT_EQ(atmo::twin::cloud_shadowing_at(cs, lut, glm::vec3(0.0f)), 1.0f);
+}
+
+// One ray from an eye below, inside or above a 4-okta cumulus layer
+// (1-2 km) towards lights 3-90 degrees up, against the independent fine march
+// of the field's summed density (2 m steps, 6 km of ray): |T - T_ref|, and
+// the bucketed boxes against a single bucket holding every box (the same
+// boxes, so equal to rounding): a bucket the ray's track crosses is never
+// missed.
+TEST(CloudRayTransmittance, MatchesAFineMarchOfTheField) {
+  const CloudField f = cumulus_field();
+  const CloudRayIndex index = build_cloud_ray_index(f);
+  const CloudRayIndex one_bucket = build_cloud_ray_index(f, 1);
+  ASSERT_GT(index.nx * index.ny, 1);
+  ASSERT_EQ(one_bucket.nx * one_bucket.ny, 1);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> across(-2500.0, 2500.0), height(0.0, 2600.0), elevation(3.0, 90.0),
+      azimuth(0.0, 360.0);
+  double worst = 0.0, mean = 0.0, worst_bucket = 0.0, shadowed = 0;
+  const int n = 300;
+  for (int i = 0; i < n; ++i) {
+    const glm::dvec3 eye(across(rng), across(rng), height(rng));
+    const glm::dvec3 l = light(elevation(rng), azimuth(rng));
+    const double t = transmittance_along_ray(f, index, eye, l, 1e300, 0.5);
+    const double ref = reference_transmittance(f, eye, l, 6000.0);
+    const double all = transmittance_along_ray(f, one_bucket, eye, l, 1e300, 0.5);
+    worst = std::max(worst, std::abs(t - ref));
+    mean += std::abs(t - ref) / n;
+    worst_bucket = std::max(worst_bucket, std::abs(t - all));
+    if (ref < 0.99) ++shadowed;
+  }
+  std::printf("one ray through 4-okta cumulus, %d rays (%.0f through cloud): |T - T_ref| mean %.2e, worst %.2e; "
+              "buckets against every box: worst %.1e\n",
+              n, shadowed, mean, worst, worst_bucket);
+  EXPECT_GT(shadowed, 0.1 * n);  // the rays do cross clouds
+  EXPECT_LT(worst, 0.01);
+  EXPECT_LT(mean, 1e-3);
+  EXPECT_LT(worst_bucket, 1e-12);
+}
+
+// Under a 500 m overcast deck and inside it 50 m above its base, the Sun
+// is gone (< 1e-6: tau > 13.8; a 300 m deck's thinnest column has tau
+// 11.5); above the deck, beside it or with the ray stopped short of it,
+// nothing is in the way (exactly 1).
+TEST(CloudRayTransmittance, ADeckHidesTheSunFromBelowAndInside) {
+  const CloudField f = overcast_field();
+  const CloudRayIndex index = build_cloud_ray_index(f);
+  for (double e : {20.0, 45.0, 90.0}) {  // lower, the ray from the centre leaves the 6 km deck's side first
+    const double below = transmittance_along_ray(f, index, glm::dvec3(0.0, 0.0, 100.0), light(e, 180.0));
+    const double inside = transmittance_along_ray(f, index, glm::dvec3(0.0, 0.0, 650.0), light(e, 180.0));
+    std::printf("sun %2.0f deg: below the deck T %.1e, inside %.1e\n", e, below, inside);
+    EXPECT_LT(below, 1e-6);
+    EXPECT_LT(inside, 1e-6);
+    EXPECT_GE(below, 0.0);
+  }
+  EXPECT_EQ(transmittance_along_ray(f, index, glm::dvec3(0.0, 0.0, 1200.0), light(20.0, 180.0)), 1.0);
+  EXPECT_EQ(transmittance_along_ray(f, index, glm::dvec3(20000.0, 0.0, 100.0), light(60.0, 90.0)), 1.0);
+  EXPECT_EQ(transmittance_along_ray(f, index, glm::dvec3(0.0, 0.0, 100.0), light(90.0, 0.0), 400.0), 1.0);
+  EXPECT_EQ(transmittance_along_ray(CloudField{}, build_cloud_ray_index(CloudField{}), glm::dvec3(0.0),
+                                    light(45.0, 0.0)),
+            1.0);
 }
 
 }  // namespace

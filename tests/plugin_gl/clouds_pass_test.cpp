@@ -161,12 +161,7 @@ TEST(CloudsPass, FiniteWhereTheMarchIsFragile) {
 // two host colours (premultiplied blending: out = clouds + T * host).
 TEST(CloudsPass, AnOvercastDeckHidesTheGroundFromAbove) {
   Fixture f;
-  AtmoCloudLayer deck = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
-  deck.type = ATMO_CLOUD_OVERCAST;
-  deck.base_m = 600.0;
-  deck.top_m = 1100.0;
-  deck.area_size_m = 8000.0;
-  deck.seed = 2;
+  const AtmoCloudLayer deck = overcast_deck(8000.0);
   const AtmoCloudsState s = clouds_at_innsbruck(&deck, 1);
   ASSERT_EQ(raw_set_clouds(f, s), ATMO_SUCCESS);
   auto draw_over = [&](float host_red) {
@@ -257,16 +252,7 @@ double luminance_under(Fixture& f, const AtmoCloudLayer* layer, AtmoPass pass, G
 }
 
 // A 46 km overcast deck, 600-1100 m, centred on the eye (or moved away).
-AtmoCloudLayer overcast_deck() {
-  AtmoCloudLayer deck = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
-  deck.type = ATMO_CLOUD_OVERCAST;
-  deck.coverage_oktas = 8;
-  deck.base_m = 600.0;
-  deck.top_m = 1100.0;
-  deck.area_size_m = 46000.0;
-  deck.seed = 2;
-  return deck;
-}
+AtmoCloudLayer overcast_deck() { return plugin_gl::overcast_deck(46000.0); }
 
 TEST(CloudsPass, TheHazeUnderAnOvercastDeckIsInItsShadow) {
   Fixture f;

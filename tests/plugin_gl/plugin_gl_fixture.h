@@ -92,6 +92,20 @@ inline AtmoCloudLayer cumulus(double base = 1200.0, double top = 2200.0) {
   return l;
 }
 
+// An overcast deck (8 oktas, seed 2) 600-1100 m, `area_m` across, its centre
+// `east_m` east of innsbruck_view's place.
+inline AtmoCloudLayer overcast_deck(double area_m, double east_m = 0.0) {
+  AtmoCloudLayer d = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
+  d.type = ATMO_CLOUD_OVERCAST;
+  d.coverage_oktas = 8;
+  d.base_m = 600.0;
+  d.top_m = 1100.0;
+  d.area_size_m = area_m;
+  d.area_centre_enu_m[0] = east_m;
+  d.seed = 2;
+  return d;
+}
+
 // Cloud layers over innsbruck_view's place (height 0).
 inline AtmoCloudsState clouds_at_innsbruck(const AtmoCloudLayer* layers, uint32_t count) {
   AtmoCloudsState s = atmo::make<AtmoCloudsState>(ATMO_TYPE_CLOUDS_STATE);

@@ -187,15 +187,8 @@ int run_render(const Options& options) {
     atmo::Context context(plugin, &services);
     context.gl_init();
 
-    auto atmosphere = atmo::make<AtmoAtmosphereState>(ATMO_TYPE_ATMOSPHERE_STATE);
-    atmosphere.visibility_m = scenario.atmosphere.visibility_m;
-    atmosphere.aerosol_scale_height_m = scenario.atmosphere.aerosol_scale_height_m;
-    atmosphere.ground_albedo = std::max(scenario.atmosphere.ground_albedo, 1e-6);
-    context.set_atmosphere(atmosphere);
-    auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
-    frame.utc_posix_s = scenario.utc_posix_s;
-    frame.dut1_s = scenario.dut1_s;
-    context.set_frame(frame);
+    context.set_atmosphere(atmo::render::atmosphere_state_of(scenario));
+    context.set_frame(atmo::render::frame_state_of(scenario));
 
     set_clouds(scenario, context);
     set_fog(scenario, context);

@@ -1,5 +1,7 @@
 #include "scenario_setup.h"
 
+#include <algorithm>
+
 #include <glm/glm.hpp>
 
 #include "atmo/atmo.hpp"
@@ -40,6 +42,21 @@ std::vector<AtmoLightPoint> light_points_of(const sc::Scenario& s, const hs::Ter
     points.push_back(p);
   }
   return points;
+}
+
+AtmoAtmosphereState atmosphere_state_of(const scenario::Scenario& s) {
+  auto atmosphere = atmo::make<AtmoAtmosphereState>(ATMO_TYPE_ATMOSPHERE_STATE);
+  atmosphere.visibility_m = s.atmosphere.visibility_m;
+  atmosphere.aerosol_scale_height_m = s.atmosphere.aerosol_scale_height_m;
+  atmosphere.ground_albedo = std::max(s.atmosphere.ground_albedo, 1e-6);
+  return atmosphere;
+}
+
+AtmoFrameState frame_state_of(const scenario::Scenario& s) {
+  auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+  frame.utc_posix_s = s.utc_posix_s;
+  frame.dut1_s = s.dut1_s;
+  return frame;
 }
 
 AtmoFogState fog_state_of(const sc::Scenario& s) {

@@ -29,6 +29,10 @@ host_scene::Geodetic origin_of(const scenario::Scenario& s);
 // the file's own points (omnidirectional). Empty without a "lights" block.
 std::vector<AtmoLightPoint> light_points_of(const scenario::Scenario& s, const host_scene::Terrain& terrain);
 
+// set_atmosphere's and set_frame's states: the file's air and its UTC.
+AtmoAtmosphereState atmosphere_state_of(const scenario::Scenario& s);
+AtmoFrameState frame_state_of(const scenario::Scenario& s);
+
 // set_fog's state: the file's visibility, and its top (above the ENU origin)
 // as a height above the ellipsoid. Only meaningful when s.fog is set.
 AtmoFogState fog_state_of(const scenario::Scenario& s);

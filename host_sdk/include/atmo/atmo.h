@@ -628,7 +628,8 @@ typedef struct AtmoLighting {
   double sun_direction_enu[3];    /* the same in east-north-up at the eye */
   double sun_elevation_rad;       /* apparent (refracted) elevation above the horizontal plane */
   double sun_azimuth_rad;         /* from north, clockwise (east = pi/2) */
-  double sun_illuminance_lux[3];  /* on a surface facing the sun at the eye, after the atmosphere, linear RGB */
+  double sun_illuminance_lux[3];  /* on a surface facing the sun at the eye, after the atmosphere and the clouds
+                                     (set_clouds) between the eye and the sun, linear RGB */
 
   /* Sky light, the sun excluded (it is the light above), in ENU axes at the
      eye. These fields grew the struct after its first 104-byte layout: a host
@@ -666,7 +667,8 @@ typedef struct AtmoLighting {
   double moon_direction_enu[3];
   double moon_elevation_rad;        /* apparent (refracted) elevation */
   double moon_azimuth_rad;          /* from north, clockwise */
-  double moon_illuminance_lux[3];   /* on a surface facing the Moon at the eye, after the atmosphere, linear RGB;
+  double moon_illuminance_lux[3];   /* on a surface facing the Moon at the eye, after the atmosphere and the
+                                       clouds between, linear RGB;
                                        0 when the Moon is below the horizon */
   double moon_illuminated_fraction; /* 0 new .. 1 full */
   double moon_phase_angle_rad;      /* Sun-Moon-eye angle: 0 full, pi new */

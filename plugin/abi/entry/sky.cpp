@@ -2,6 +2,7 @@
 #include <cmath>
 #include <string>
 
+#include "abi/cloud_inputs.h"
 #include "abi/entry/call.h"
 #include "abi/entry/entry_points.h"
 #include "abi/pass_inputs.h"
@@ -67,11 +68,16 @@ AtmoResult get_lighting(AtmoView view_handle, AtmoLighting* out) {
         const core::BodyIlluminance lit = core::body_illuminance(scene, ctx->transmittance, scene.eye_altitude_m);
         const core::SkyBodies& bodies = scene.bodies;
         const glm::dvec3 moon_ecef = view->eye.ecef_from_enu * bodies.moon_enu;
+        // The clouds between the eye and each light dim it (direct transmittance).
+        const double sun_clouds =
+            cloud_transmittance_from_eye(ctx->clouds, view->eye.eye_ecef_m, view->eye.ecef_from_enu, enu);
+        const double moon_clouds =
+            cloud_transmittance_from_eye(ctx->clouds, view->eye.eye_ecef_m, view->eye.ecef_from_enu, bodies.moon_enu);
         for (int i = 0; i < 3; ++i) {
-          l.sun_illuminance_lux[i] = lit.sun_lux[i];
+          l.sun_illuminance_lux[i] = lit.sun_lux[i] * sun_clouds;
           l.moon_direction_ecef[i] = moon_ecef[i];
           l.moon_direction_enu[i] = bodies.moon_enu[i];
-          l.moon_illuminance_lux[i] = lit.moon_lux[i];
+          l.moon_illuminance_lux[i] = lit.moon_lux[i] * moon_clouds;
         }
         const core::HorizontalAngles moon_angles = core::horizontal_angles(bodies.moon_enu);
         l.moon_elevation_rad = moon_angles.elevation_rad;
