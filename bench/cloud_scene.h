@@ -152,6 +152,7 @@ class Host {
     std::vector<atmo::clouds::CloudInstance> kept;
     for (const auto& k : candidates) kept.push_back(c.field.instances[k.second]);
     c.field.instances = std::move(kept);
+    c.ray_index = atmo::clouds::build_cloud_ray_index(c.field);  // as build_clouds
     // As build_clouds: the light is taken at the clouds' mean centre height.
     c.mean_centre_height_m = 0.0;
     for (const atmo::clouds::CloudInstance& i : c.field.instances)

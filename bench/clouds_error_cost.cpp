@@ -38,6 +38,9 @@
 //              march_step_voxels 0.5, 1, 2, at the texels sweep's last eye:
 //              cost = the median of `--frames` frames; divisor 1 step 0.5 is
 //              the reference itself (error 0; its cost is listed).
+//   layer      the layer march (ATMO_CLOUD_DRAW_LAYER), divisor 1, 2, 4 x a
+//              step budget of 48, 96, 192 (the default), 384 steps a pixel,
+//              at the same eye and against the same reference as `direct`.
 //   lighting   the lighting approximations (written to --lighting-csv)
 //              against the Monte Carlo path tracer (all orders), on the
 //              stored references of tests/clouds/octaves_vs_path_tracer_test.cpp
@@ -55,7 +58,7 @@
 //              of `--frames` frames.
 //
 // Usage: atmo_clouds_error_cost --csv OUT.csv --lighting-csv OUT2.csv
-//        [--width 640 --height 360 --frames 6 --path-frames 12 --only texels,threshold,direct,lighting]
+//        [--width 640 --height 360 --frames 6 --path-frames 12 --only texels,threshold,direct,layer,lighting]
 #include <glad/gl.h>
 
 #include <algorithm>
@@ -328,29 +331,36 @@ class Study {
           s.march_resolution_divisor = divisor;
           s.march_step_voxels = step;
           apply(s);
-          frame(end, false);  // warm-up
-          Row r;
-          r.sweep = "direct march: divisor " + std::to_string(divisor) + " (label: step in voxels)";
           std::ostringstream name, label;
           name << "d" << divisor << " step " << step;
-          r.setting = name.str();
           label << step;
-          r.label = label.str();
-          std::vector<double> ms, q;
-          Frame f;
-          for (int i = 0; i < o_.frames; ++i) {
-            f = frame(end, i == o_.frames - 1);
-            ms.push_back(f.ms);
-            q.push_back(f.query_ms);
-            r.marched += f.stats.marched;
-            r.in_view += f.stats.in_view;
-          }
-          finish(&r, ms, q, false);
-          r.err = frame_error(f.image, refs[0], skies[0]);
-          r.psnr_worst_db = r.err.psnr_db;
-          rows_.push_back(r);
-          print(r);
+          steady_row("direct march: divisor " + std::to_string(divisor) + " (label: step in voxels)", name.str(),
+                     label.str(), end, refs[0], skies[0]);
         }
+    }
+    // The layer march (ATMO_CLOUD_DRAW_LAYER): resolution and the step budget
+    // (not yet an ABI knob: set in the context's settings, statically linked).
+    if (o_.wants("layer")) {
+      for (uint32_t divisor : {1u, 2u, 4u})
+        for (int steps : {48, 96, 192, 384}) {
+          std::fprintf(stderr, "layer march, divisor %u, %d steps\n", divisor, steps);
+          AtmoCloudsState s = state(ATMO_CLOUD_DRAW_LAYER);
+          s.march_resolution_divisor = divisor;
+          apply(s);
+          host_.context()->clouds.settings.layer_max_steps = steps;
+          steady_row("layer march: divisor " + std::to_string(divisor) + " (label: step budget)",
+                     "d" + std::to_string(divisor) + " " + std::to_string(steps) + " steps", std::to_string(steps), end,
+                     refs[0], skies[0]);
+        }
+      // The clipmap's width (level 0's reach, voxels a side), at the defaults otherwise.
+      for (int size : {96, 192, 384}) {
+        std::fprintf(stderr, "layer march, clipmap %d voxels a side\n", size);
+        apply(state(ATMO_CLOUD_DRAW_LAYER));
+        host_.context()->clouds.settings.clipmap.size = size;
+        host_.context()->clouds.clipmap_built_for = 0;  // rebuilt at the new width
+        steady_row("layer march: clipmap width (label: voxels a side)", "clipmap " + std::to_string(size),
+                   std::to_string(size), end, refs[0], skies[0]);
+      }
     }
     write_csv();
     if (o_.wants("lighting")) lighting(end);
@@ -359,6 +369,30 @@ class Study {
   }
 
  private:
+  // A still eye: a warm-up frame, then o_.frames timed; the last one's error against ref.
+  void steady_row(const std::string& sweep, const std::string& setting, const std::string& label, const Camera& cam,
+                  const Image& ref, const Image& sky) {
+    frame(cam, false);  // warm-up
+    Row r;
+    r.sweep = sweep;
+    r.setting = setting;
+    r.label = label;
+    std::vector<double> ms, q;
+    Frame f;
+    for (int i = 0; i < o_.frames; ++i) {
+      f = frame(cam, i == o_.frames - 1);
+      ms.push_back(f.ms);
+      q.push_back(f.query_ms);
+      r.marched += f.stats.marched;
+      r.in_view += f.stats.in_view;
+    }
+    finish(&r, ms, q, false);
+    r.err = frame_error(f.image, ref, sky);
+    r.psnr_worst_db = r.err.psnr_db;
+    rows_.push_back(r);
+    print(r);
+  }
+
   void finish(Row* r, const std::vector<double>& ms, const std::vector<double>& q, bool use_mean) {
     r->frames = int(ms.size());
     r->cost_median_ms = median(ms);
@@ -608,7 +642,7 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: atmo_clouds_error_cost [--csv F] [--lighting-csv F] [--images DIR] [--width 640] "
-                   "[--height 360] [--frames 6] [--path-frames 12] [--only texels,threshold,direct,lighting]\n");
+                   "[--height 360] [--frames 6] [--path-frames 12] [--only texels,threshold,direct,layer,lighting]\n");
       return 2;
     }
   }

@@ -298,14 +298,13 @@ bool update_cloud_shadow(ContextClouds* c) {
 bool update_clipmap(ContextClouds* c, const glm::dvec3& eye) {
   if (c->empty() || glm::length(c->lit_direction_enu) < 0.5) return false;
   const auto t0 = std::chrono::steady_clock::now();
-  if (c->buckets.box_min.size() != c->field.instances.size()) c->buckets = clouds::bucket_instances(c->field);
   if (c->mips_version != c->version) {
     c->mips = clouds::build_prototype_mips(c->field, c->depths, c->lit_direction_enu);
     c->mips_version = c->version;
   }
   const glm::ivec2 cell = clouds::clipmap_cell(c->field, c->settings.clipmap, eye);
   if (c->clipmap_built_for == c->version && !c->clipmap.levels.empty() && c->clipmap.cell == cell) return false;
-  c->clipmap = clouds::build_clipmap(c->field, c->mips, c->buckets, c->settings.clipmap, cell);
+  c->clipmap = clouds::build_clipmap(c->field, c->mips, c->ray_index, c->settings.clipmap, cell);
   c->clipmap_built_for = c->version;
   ++c->clipmap_version;
   c->clipmap_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -65,9 +65,8 @@ struct ContextClouds {
   // the views and their order.
   core::SkyBodiesCache bodies;
   double relight_ms = 0.0;                   // the last relight, for logs and benchmarks
-  // The layer march's clipmap (update_clipmap): buckets once per field, the
-  // prototypes' mips per light, the levels per (light, eye cell).
-  clouds::InstanceBuckets buckets;
+  // The layer march's clipmap (update_clipmap): the prototypes' mips per
+  // light, the levels per (light, eye cell); instances found through ray_index.
   std::vector<clouds::PrototypeMips> mips;
   uint64_t mips_version = 0;                 // `version` the mips were built for (0: none)
   clouds::CloudClipmap clipmap;

@@ -120,7 +120,7 @@ int main(int argc, char** argv) {
     }
   }
   for (uint32_t m = 0; m < ATMO_CLOUD_DRAW_MODE_COUNT; ++m)
-    if (draw_mode == sample::cloud_draw_mode_name(m)) settings.clouds.draw_mode = m;
+    if (draw_mode == sample::cloud_draw_mode_name(m)) settings.clouds.draw_mode = static_cast<AtmoCloudDrawMode>(m);
   settings.pose = sample::approach_path(0.0);
 
   return options.frames > 0 ? sample::run_headless(options, settings) : sample::run_window(options, settings);

@@ -182,7 +182,8 @@ ATMO_FN CloudLayerSample cloud_layer_march(IN(CLOUD_LAYER) vol, IN(CloudLayerMar
       seg_transmittance *= step_t;
     }
     t += dt;
-    bool ends = in_cloud && (sigma_t <= 1e-7f || t >= t1 || i >= m.max_steps || seg_transmittance < 1e-4f);
+    bool ends = in_cloud && (sigma_t <= 1e-7f || t >= t1 || i >= m.max_steps ||
+                             transmittance * seg_transmittance < CLOUD_OPAQUE_TRANSMITTANCE);
     if (ends) {
       // The cloud ends: pay what it owes, put it behind the air in front of it.
       in_cloud = false;
@@ -195,7 +196,10 @@ ATMO_FN CloudLayerSample cloud_layer_march(IN(CLOUD_LAYER) vol, IN(CloudLayerMar
       depth_sum += transmittance * (1.0f - seg_transmittance) * depth;
       weight_sum += transmittance * (1.0f - seg_transmittance);
       transmittance *= seg_transmittance;
-      if (transmittance < 1e-4f) break;
+      if (transmittance < CLOUD_OPAQUE_TRANSMITTANCE) {  // nothing behind shows (cloud_functions.glsl)
+        transmittance = 0.0f;
+        break;
+      }
     }
   }
   s.radiance = radiance;

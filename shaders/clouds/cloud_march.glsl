@@ -24,17 +24,6 @@ struct CloudMarch {
   vec4 continuing_sides;   // 1 where the grid's side face goes on into another grid (a deck's tiles): west (-x), east (+x), south (-y), north (+y)
 };
 
-// Where the march stops: once the background's transmittance is below this,
-// the rest of the ray is dropped and the transmittance set to 0. What that
-// drops is < 1e-6 of the background (the Sun's disc included: issue 19 asks
-// < 1e-6 of its clear value behind a deck) plus < 1e-6 of the light the cloud
-// scatters from beyond the stop. A transmittance above it is kept as marched,
-// so a thin cloud is not darkened. Stored as 1 - T in the half-float image,
-// T = 0 is exact (alpha 1), where the residual kept across a deck's tiles
-// (up to 1e-3) read as 4.9e-4 (the half float's step below 1) and let
-// ~1e6 cd/m^2 of the disc through.
-const float CLOUD_OPAQUE_TRANSMITTANCE = 1e-6f;
-
 struct CloudSample {
   vec3 radiance;         // cd/m^2 scattered towards the eye by the cloud (background excluded)
   float transmittance;   // of the background through the cloud

@@ -95,7 +95,7 @@ Comparison compare(const Scene& s, const glm::dvec3& eye, double azimuth0_deg, d
                    double elevation1_deg, int max_steps, int size, float step_voxels = 1.0f) {
   ClipmapSpec spec;
   spec.size = size;
-  const InstanceBuckets buckets = bucket_instances(s.field);
+  const CloudRayIndex buckets = build_cloud_ray_index(s.field);
   const std::vector<PrototypeMips> mips = build_prototype_mips(s.field, s.depths, s.light.direction_enu);
   const CloudClipmap map = build_clipmap(s.field, mips, buckets, spec, clipmap_cell(s.field, spec, eye));
   const twin::CloudLayerMarch m = make_layer_march(s.field, map, eye, s.light, step_voxels, max_steps);
@@ -160,7 +160,7 @@ TEST(CloudClipmap, LayerMarchMatchesThePerCloudMarchOnADeck) {
 TEST(CloudClipmap, BudgetAndDeterminism) {
   const Scene s = make_scene(CloudLayerType::Cumulus, 6, 1000.0, 2000.0, 8000.0, glm::dvec3(0.0, 0.6, 0.8));
   ClipmapSpec spec;
-  const InstanceBuckets buckets = bucket_instances(s.field);
+  const CloudRayIndex buckets = build_cloud_ray_index(s.field);
   const std::vector<PrototypeMips> mips = build_prototype_mips(s.field, s.depths, s.light.direction_enu);
   const glm::dvec3 eye(10.0, 20.0, 1500.0), eye2(40.0, 60.0, 1500.0);
   ASSERT_EQ(clipmap_cell(s.field, spec, eye), clipmap_cell(s.field, spec, eye2));
@@ -227,7 +227,7 @@ TEST(CloudClipmap, StabilitySweepOverTypesCoverEyesAndLight) {
         for (const CloudVolume& v : field.prototypes) depths.push_back(compute_light_depths(v, light.direction_enu));
         ClipmapSpec cs;
         cs.size = 64;
-        const InstanceBuckets buckets = bucket_instances(field);
+        const CloudRayIndex buckets = build_cloud_ray_index(field);
         const std::vector<PrototypeMips> mips = build_prototype_mips(field, depths, light.direction_enu);
         for (double eye_z : {spec.base_m - 500.0, 0.5 * (spec.base_m + spec.top_m), spec.top_m + 2000.0, 20000.0}) {
           const glm::dvec3 eye(100.0, -300.0, eye_z);

@@ -63,14 +63,9 @@ void field_bounds(const CloudField& field, glm::dvec3* lo, glm::dvec3* hi) {
   *lo = glm::dvec3(std::numeric_limits<double>::max());
   *hi = -*lo;
   for (const CloudInstance& inst : field.instances) {
-    const CloudVolume& v = field.prototypes[static_cast<size_t>(inst.prototype)];
-    const glm::dvec3 e = v.extent_m();
-    for (int c = 0; c < 8; ++c) {
-      const glm::dvec3 corner = inst.origin_enu_m + v.rotation * glm::dvec3(c & 1 ? e.x : 0.0, c & 2 ? e.y : 0.0,
-                                                                              c & 4 ? e.z : 0.0);
-      *lo = glm::min(*lo, corner);
-      *hi = glm::max(*hi, corner);
-    }
+    const InstanceBox b = instance_box(field, inst);
+    *lo = glm::min(*lo, b.lo);
+    *hi = glm::max(*hi, b.hi);
   }
 }
 
@@ -102,46 +97,6 @@ size_t CloudClipmap::memory_bytes() const {
   size_t b = 0;
   for (const ClipmapLevel& l : levels) b += l.a.size() * sizeof(glm::vec4) + l.b.size() * sizeof(glm::vec2);
   return b;
-}
-
-InstanceBuckets bucket_instances(const CloudField& field) {
-  InstanceBuckets out;
-  const size_t n = field.instances.size();
-  out.box_min.resize(n);
-  out.box_max.resize(n);
-  glm::dvec2 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-  double widest = 1.0;
-  for (size_t i = 0; i < n; ++i) {
-    const CloudInstance& inst = field.instances[i];
-    const CloudVolume& v = field.prototypes[static_cast<size_t>(inst.prototype)];
-    glm::dvec3 a(std::numeric_limits<double>::max()), b(-std::numeric_limits<double>::max());
-    const glm::dvec3 e = v.extent_m();
-    for (int c = 0; c < 8; ++c) {
-      const glm::dvec3 corner = inst.origin_enu_m + v.rotation * glm::dvec3(c & 1 ? e.x : 0.0, c & 2 ? e.y : 0.0,
-                                                                              c & 4 ? e.z : 0.0);
-      a = glm::min(a, corner);
-      b = glm::max(b, corner);
-    }
-    out.box_min[i] = a, out.box_max[i] = b;
-    lo = glm::min(lo, glm::dvec2(a)), hi = glm::max(hi, glm::dvec2(b));
-    widest = std::max({widest, b.x - a.x, b.y - a.y});
-  }
-  if (n == 0) return out;
-  // Buckets as wide as the widest box, at most 1024 a side.
-  out.bucket_m = std::max(widest, std::max(hi.x - lo.x, hi.y - lo.y) / 1024.0);
-  out.min_m = lo;
-  out.nx = std::max(1, static_cast<int>(std::ceil((hi.x - lo.x) / out.bucket_m)));
-  out.ny = std::max(1, static_cast<int>(std::ceil((hi.y - lo.y) / out.bucket_m)));
-  out.cells.resize(static_cast<size_t>(out.nx) * out.ny);
-  for (size_t i = 0; i < n; ++i) {
-    const int x0 = std::clamp(static_cast<int>((out.box_min[i].x - lo.x) / out.bucket_m), 0, out.nx - 1);
-    const int x1 = std::clamp(static_cast<int>((out.box_max[i].x - lo.x) / out.bucket_m), 0, out.nx - 1);
-    const int y0 = std::clamp(static_cast<int>((out.box_min[i].y - lo.y) / out.bucket_m), 0, out.ny - 1);
-    const int y1 = std::clamp(static_cast<int>((out.box_max[i].y - lo.y) / out.bucket_m), 0, out.ny - 1);
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) out.cells[static_cast<size_t>(y) * out.nx + x].push_back(static_cast<uint32_t>(i));
-  }
-  return out;
 }
 
 std::vector<PrototypeMips> build_prototype_mips(const CloudField& field, const std::vector<LightDepths>& depths,
@@ -203,7 +158,7 @@ glm::ivec2 clipmap_cell(const CloudField& field, const ClipmapSpec& spec, const 
 }
 
 CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeMips>& mips,
-                           const InstanceBuckets& buckets, const ClipmapSpec& spec, const glm::ivec2& cell) {
+                           const CloudRayIndex& index, const ClipmapSpec& spec, const glm::ivec2& cell) {
   CloudClipmap out;
   out.cell = cell;
   if (field.instances.empty()) return out;
@@ -223,6 +178,8 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
     double z0, z1;
     float extinction, droplet_um;
   };
+  std::vector<InstanceBox> boxes(field.instances.size());
+  for (size_t i = 0; i < boxes.size(); ++i) boxes[i] = instance_box(field, field.instances[i]);
   std::vector<Placed> placed(field.instances.size());
   std::vector<Placed> column;
   for (int l = 0; l < n_levels; ++l) {
@@ -238,7 +195,7 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
                                  static_cast<int>(pm.mips.size()) - 1);
       placed[i] = {&pm.mips[static_cast<size_t>(mip)],
                    glm::mat3_cast(glm::inverse(vol.rotation)) / (double(vol.voxel_size_m) * std::ldexp(1.0, mip)),
-                   inst.origin_enu_m, buckets.box_min[i].z - v, buckets.box_max[i].z + v,
+                   inst.origin_enu_m, boxes[i].lo.z - v, boxes[i].hi.z + v,
                    vol.optics.extinction_per_m, vol.optics.droplet_diameter_um};
     }
     L.nx = L.ny = spec.size;
@@ -251,15 +208,18 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
     for (int y = 0; y < L.ny; ++y)
       for (int x = 0; x < L.nx; ++x) {
         const glm::dvec2 p(L.origin_m.x + (x + 0.5) * v, L.origin_m.y + (y + 0.5) * v);
-        const int bx = static_cast<int>(std::floor((p.x - buckets.min_m.x) / buckets.bucket_m));
-        const int by = static_cast<int>(std::floor((p.y - buckets.min_m.y) / buckets.bucket_m));
-        if (bx < 0 || by < 0 || bx >= buckets.nx || by >= buckets.ny) continue;
+        const int bx = static_cast<int>(std::floor((p.x - index.corner_enu_m.x) / index.cell_m));
+        const int by = static_cast<int>(std::floor((p.y - index.corner_enu_m.y) / index.cell_m));
+        if (bx < 0 || by < 0 || bx >= index.nx || by >= index.ny) continue;
         // The instances whose box covers the column, give or take a voxel (trilinear reach).
         column.clear();
-        for (uint32_t i : buckets.cells[static_cast<size_t>(by) * buckets.nx + bx])
-          if (p.x >= buckets.box_min[i].x - v && p.x <= buckets.box_max[i].x + v &&
-              p.y >= buckets.box_min[i].y - v && p.y <= buckets.box_max[i].y + v)
+        const size_t bucket = static_cast<size_t>(by) * index.nx + bx;
+        for (uint32_t k = index.start[bucket]; k < index.start[bucket + 1]; ++k) {
+          const uint32_t i = index.items[k];
+          if (p.x >= boxes[i].lo.x - v && p.x <= boxes[i].hi.x + v && p.y >= boxes[i].lo.y - v &&
+              p.y <= boxes[i].hi.y + v)
             column.push_back(placed[i]);
+        }
         if (column.empty()) continue;
         for (int z = 0; z < L.nz; ++z) {
           const double height = L.origin_m.z + (z + 0.5) * v;

@@ -22,6 +22,7 @@
 
 #include "core/clouds/cloud_field.h"
 #include "core/clouds/cloud_lighting.h"
+#include "core/clouds/cloud_transmittance.h"
 
 namespace atmo::clouds {
 
@@ -51,16 +52,6 @@ struct PrototypeMips {
   std::vector<Mip> mips;
 };
 
-// 2D buckets of the instances' boxes (clouds' frame), so a point finds the
-// few instances that may cover it: built once per field, O(instances).
-struct InstanceBuckets {
-  glm::dvec2 min_m{0.0};
-  double bucket_m = 1.0;
-  int nx = 0, ny = 0;
-  std::vector<std::vector<uint32_t>> cells;
-  std::vector<glm::dvec3> box_min, box_max;  // per instance
-};
-
 struct CloudClipmap {
   std::vector<ClipmapLevel> levels;
   double bottom_m = 0.0, top_m = 0.0;   // the field's boxes' lowest and highest height
@@ -69,7 +60,6 @@ struct CloudClipmap {
   size_t memory_bytes() const;
 };
 
-InstanceBuckets bucket_instances(const CloudField& field);
 // Mips per prototype for the current light grids (depths[p] per prototype).
 std::vector<PrototypeMips> build_prototype_mips(const CloudField& field, const std::vector<LightDepths>& depths,
                                                 const glm::dvec3& light_dir_enu);
@@ -80,9 +70,10 @@ std::vector<PrototypeMips> build_prototype_mips(const CloudField& field, const s
 glm::ivec2 clipmap_cell(const CloudField& field, const ClipmapSpec& spec, const glm::dvec3& eye_m);
 double clipmap_base_voxel_m(const CloudField& field, const ClipmapSpec& spec);
 
-// Builds every level centred on `cell`. O(levels x size^2 x nz x instances per bucket).
+// Builds every level centred on `cell`; `index` (build_cloud_ray_index) finds
+// the instances over a column. O(levels x size^2 x nz x instances per bucket).
 CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeMips>& mips,
-                           const InstanceBuckets& buckets, const ClipmapSpec& spec, const glm::ivec2& cell);
+                           const CloudRayIndex& index, const ClipmapSpec& spec, const glm::ivec2& cell);
 
 // The march's volume on the CPU (cloud_layer_march.glsl's CLOUD_LAYER).
 struct CpuCloudLayer {

@@ -17,6 +17,14 @@ struct CloudInstance {
   glm::dvec3 origin_enu_m{0.0};   // replaces the prototype's origin_enu_m
 };
 
+// The scene-frame (ENU) bounding box of an instance's grid (turned by its prototype's rotation).
+struct InstanceBox {
+  glm::dvec3 lo, hi;
+};
+
+struct CloudField;
+InstanceBox instance_box(const CloudField& field, const CloudInstance& inst);
+
 struct CloudField {
   std::vector<CloudVolume> prototypes;
   std::vector<CloudInstance> instances;
@@ -27,5 +35,17 @@ struct CloudField {
     return b;
   }
 };
+
+inline InstanceBox instance_box(const CloudField& field, const CloudInstance& inst) {
+  const CloudVolume& v = field.prototypes[static_cast<size_t>(inst.prototype)];
+  const glm::dvec3 e = v.extent_m();
+  InstanceBox b{glm::dvec3(1e300), glm::dvec3(-1e300)};
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec3 corner = inst.origin_enu_m + v.rotation * (e * glm::dvec3(c & 1, (c >> 1) & 1, (c >> 2) & 1));
+    b.lo = glm::min(b.lo, corner);
+    b.hi = glm::max(b.hi, corner);
+  }
+  return b;
+}
 
 }  // namespace atmo::clouds

@@ -11,24 +11,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kOpaqueTau = 50.0;
 
-struct Box {
-  glm::dvec3 lo, hi;
-};
-
-// The ENU bounding box of an instance's (possibly rotated) grid.
-Box instance_box(const CloudField &field, const CloudInstance &inst) {
-  const CloudVolume &v = field.prototypes[static_cast<size_t>(inst.prototype)];
-  const glm::dvec3 e = v.extent_m();
-  Box b{glm::dvec3(kInf), glm::dvec3(-kInf)};
-  for (int c = 0; c < 8; ++c) {
-    const glm::dvec3 corner =
-        inst.origin_enu_m +
-        v.rotation * (e * glm::dvec3(c & 1, (c >> 1) & 1, (c >> 2) & 1));
-    b.lo = glm::min(b.lo, corner);
-    b.hi = glm::max(b.hi, corner);
-  }
-  return b;
-}
+using Box = InstanceBox;
 
 // [t0, t1] of origin + t dir inside [lo, hi] on the axes in `axes` (t1 < t0: a
 // miss).
