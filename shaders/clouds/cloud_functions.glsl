@@ -203,6 +203,54 @@ ATMO_FN vec3 cloud_step_radiance(IN(vec3) source, float sigma_t, float dt) {
   return sigma_t > 1e-9f ? source * (1.0f - step_t) / sigma_t : source * dt;
 }
 
+// A view ray's running sums through a cloud (cloud_march.glsl, cloud_layer_march.glsl).
+struct CloudRay {
+  vec3 radiance;        // scattered towards the eye, relative to the transmittance where the sums started
+  float transmittance;  // from there
+  float owed;           // scattering weight whose diffuse source is still to come (cloud_lookahead_share)
+  vec3 diffuse;         // the last sample's diffuse source (diffusion + ambient) per unit weight
+  float depth_sum;      // opacity-weighted distance, m
+  float weight_sum;
+};
+
+ATMO_FN CloudRay cloud_ray_start() {
+  CloudRay r;
+  r.radiance = vec3(0.0f);
+  r.transmittance = 1.0f;
+  r.owed = 0.0f;
+  r.diffuse = vec3(0.0f);
+  r.depth_sum = 0.0f;
+  r.weight_sum = 0.0f;
+  return r;
+}
+
+// One step of dt_m metres at distance depth_m with constant extinction
+// sigma_t (> 0) and the optical depths at its point: the octaves there, the
+// diffusion and ambient terms owed to its scattering and paid from the
+// samples ahead. cos_theta: light . view (cloud_phase); mu: view . zenith.
+ATMO_FN CloudRay cloud_ray_step(IN(CloudRay) r, IN(CloudPhase) ph, IN(CloudOctaves) oc, IN(vec3) light_illuminance,
+                                IN(vec3) sky_radiance, IN(vec3) ground_radiance, float albedo, float cos_theta,
+                                float mu, float sigma_t, float dt_m, float depth_m, float tau_light, float tau_back,
+                                float tau_up, float tau_down) {
+  CloudRay s = r;
+  float around = cloud_tau_around(tau_light, tau_back, tau_up, tau_down);
+  float multiple = cloud_multiple_share(oc, around);
+  vec3 in_light = light_illuminance * cloud_light_octaves(ph, oc, tau_light, cos_theta, multiple);
+  s.radiance += s.transmittance * cloud_step_radiance((albedo * sigma_t) * in_light, sigma_t, dt_m);
+  s.diffuse = (light_illuminance * multiple) * cloud_light_diffusion(oc, tau_light, tau_back, tau_up, tau_down, cos_theta) +
+              cloud_ambient(ph, oc, sky_radiance, ground_radiance, tau_up, tau_down, around, mu);
+  float step_t = exp(-sigma_t * dt_m);
+  s.owed += s.transmittance * albedo * (1.0f - step_t);
+  float share = s.owed * cloud_lookahead_share(oc, sigma_t * dt_m);
+  s.radiance += share * s.diffuse;
+  s.owed -= share;
+  float w = s.transmittance * (1.0f - step_t);
+  s.depth_sum += w * depth_m;
+  s.weight_sum += w;
+  s.transmittance *= step_t;
+  return s;
+}
+
 // Entry and exit of a ray with the box [0, size], as (t_near, t_far); t_near > t_far when it misses.
 ATMO_FN vec2 cloud_box_hit(IN(vec3) origin, IN(vec3) dir, IN(vec3) size) {
   vec3 inv = vec3(1.0f) / vec3(abs(dir.x) > 1e-12f ? dir.x : 1e-12f, abs(dir.y) > 1e-12f ? dir.y : 1e-12f,

@@ -117,14 +117,8 @@ ATMO_FN CloudLayerSample cloud_layer_march(IN(CLOUD_LAYER) vol, IN(CloudLayerMar
   vec3 radiance = vec3(0.0f);
   float depth_sum = 0.0f;
   float weight_sum = 0.0f;
-  // The cloud being crossed: its radiance relative to its front, its
-  // transmittance, opacity-weighted depth, the diffuse weight still owed.
-  vec3 seg_radiance = vec3(0.0f);
-  float seg_transmittance = 1.0f;
-  float seg_depth = 0.0f;
-  float seg_weight = 0.0f;
-  float owed = 0.0f;
-  vec3 diffuse = vec3(0.0f);
+  // The cloud being crossed, from its front.
+  CloudRay seg = cloud_ray_start();
   bool in_cloud = false;
   float t = t0;
   int i = 0;
@@ -135,13 +129,17 @@ ATMO_FN CloudLayerSample cloud_layer_march(IN(CLOUD_LAYER) vol, IN(CloudLayerMar
     if (l < 0) break;
     float v = m.level_origin[l].w;
     float dt = min(max(v * m.step_voxels, (t1 - t) / float(left)), t1 - t);
-    // Empty space: where a level two up is clear around the point, so is
-    // every finer voxel within half its voxel (its box filter holds them).
-    int lc = min(l + 2, m.level_count - 1);
-    float clear_reach = 0.5f * m.level_origin[lc].w;
+    // Empty space: where a coarser level (two up, then every second one) is
+    // clear around the point, so is every finer voxel within half its voxel
+    // (its box filter holds them): skip that far, from the coarsest clear one.
     vec3 mid = dir * (t + 0.5f * dt);
+    float clear_reach = 0.0f;
+    for (int lc = l + 2; lc < m.level_count; lc += 2) {
+      if (cloud_layer_fetch_a(vol, lc, cloud_layer_index(m, lc, mid)).x > 0.0f) break;
+      clear_reach = 0.5f * m.level_origin[lc].w;
+    }
     vec4 a = vec4(0.0f);
-    if (lc > l && cloud_layer_fetch_a(vol, lc, cloud_layer_index(m, lc, mid)).x <= 0.0f) {
+    if (clear_reach > 0.0f) {
       dt = min(max(dt, clear_reach), t1 - t);
     } else {
       a = cloud_layer_fetch_a(vol, l, cloud_layer_index(m, l, mid));
@@ -158,44 +156,26 @@ ATMO_FN CloudLayerSample cloud_layer_march(IN(CLOUD_LAYER) vol, IN(CloudLayerMar
       CloudPhase ph = cloud_layer_phase(m, b.y * inv);
       if (!in_cloud) {
         in_cloud = true;
-        seg_radiance = vec3(0.0f);
-        seg_transmittance = 1.0f;
-        seg_depth = 0.0f;
-        seg_weight = 0.0f;
-        owed = 0.0f;
+        seg = cloud_ray_start();
       }
-      float around = cloud_tau_around(tau_light, tau_back, tau_up, tau_down);
-      float multiple = cloud_multiple_share(oc, around);
-      vec3 in_light = m.light_illuminance * cloud_light_octaves(ph, oc, tau_light, cos_theta, multiple);
-      seg_radiance += seg_transmittance * cloud_step_radiance((m.albedo * sigma_t) * in_light, sigma_t, dt);
-      diffuse = (m.light_illuminance * multiple) *
-                    cloud_light_diffusion(oc, tau_light, tau_back, tau_up, tau_down, cos_theta) +
-                cloud_ambient(ph, oc, m.sky_radiance, m.ground_radiance, tau_up, tau_down, around, mu);
-      float step_t = exp(-sigma_t * dt);
-      owed += seg_transmittance * m.albedo * (1.0f - step_t);
-      float share = owed * cloud_lookahead_share(oc, sigma_t * dt);
-      seg_radiance += share * diffuse;
-      owed -= share;
-      float w = seg_transmittance * (1.0f - step_t);
-      seg_depth += w * (t + 0.5f * dt);
-      seg_weight += w;
-      seg_transmittance *= step_t;
+      seg = cloud_ray_step(seg, ph, oc, m.light_illuminance, m.sky_radiance, m.ground_radiance, m.albedo, cos_theta,
+                           mu, sigma_t, dt, t + 0.5f * dt, tau_light, tau_back, tau_up, tau_down);
     }
     t += dt;
     bool ends = in_cloud && (sigma_t <= 1e-7f || t >= t1 || i >= m.max_steps ||
-                             transmittance * seg_transmittance < CLOUD_OPAQUE_TRANSMITTANCE);
+                             transmittance * seg.transmittance < CLOUD_OPAQUE_TRANSMITTANCE);
     if (ends) {
       // The cloud ends: pay what it owes, put it behind the air in front of it.
       in_cloud = false;
-      seg_radiance += owed * diffuse;
-      float depth = seg_weight > 0.0f ? seg_depth / seg_weight : t;
+      vec3 seg_radiance = seg.radiance + seg.owed * seg.diffuse;
+      float depth = seg.weight_sum > 0.0f ? seg.depth_sum / seg.weight_sum : t;
       vec3 air_inscatter;
       vec3 air_transmittance;
       cloud_layer_air(depth, air_inscatter, air_transmittance);
-      radiance += transmittance * (seg_radiance * air_transmittance + (1.0f - seg_transmittance) * air_inscatter);
-      depth_sum += transmittance * (1.0f - seg_transmittance) * depth;
-      weight_sum += transmittance * (1.0f - seg_transmittance);
-      transmittance *= seg_transmittance;
+      radiance += transmittance * (seg_radiance * air_transmittance + (1.0f - seg.transmittance) * air_inscatter);
+      depth_sum += transmittance * (1.0f - seg.transmittance) * depth;
+      weight_sum += transmittance * (1.0f - seg.transmittance);
+      transmittance *= seg.transmittance;
       if (transmittance < CLOUD_OPAQUE_TRANSMITTANCE) {  // nothing behind shows (cloud_functions.glsl)
         transmittance = 0.0f;
         break;

@@ -70,12 +70,7 @@ ATMO_FN CloudSample cloud_march(IN(CLOUD_VOLUME) vol, IN(CloudMarch) m, IN(Cloud
   // Looking into the light through the cloud: cos = 1 (cloud_functions.glsl).
   float cos_theta = dot(m.light_dir_grid, dir_grid);
   float mu = dot(dir_grid, oc.up_grid);  // > 0: looking up
-  float depth_sum = 0.0f;
-  float weight_sum = 0.0f;
-  float transmittance = 1.0f;
-  vec3 radiance = vec3(0.0f);
-  float owed = 0.0f;               // scattering weight whose diffuse source is still to come (cloud_lookahead_share)
-  vec3 diffuse = vec3(0.0f);       // the last sample's diffuse source (diffusion + ambient), per unit weight
+  CloudRay r = cloud_ray_start();
   for (int i = 0; i < steps; ++i) {
     float t = hit.x + (float(i) + 0.5f) * dt;
     vec3 point = origin_index + dir_grid * t;
@@ -93,31 +88,16 @@ ATMO_FN CloudSample cloud_march(IN(CLOUD_VOLUME) vol, IN(CloudMarch) m, IN(Cloud
         tau_back = max(max(cloud_fetch(vol, far_point).y - v.y, 0.0f),
                        cloud_depth_beyond_side(m, point - m.light_dir_grid * back.y, v.z, v.w));
       }
-      // The octaves at the point; the diffusion and ambient terms are owed
-      // to this point's scattering and paid from the samples ahead.
-      float around = cloud_tau_around(v.y, tau_back, v.z, v.w);
-      float multiple = cloud_multiple_share(oc, around);
-      vec3 in_light = m.light_illuminance * cloud_light_octaves(ph, oc, v.y, cos_theta, multiple);
-      radiance += transmittance * cloud_step_radiance((m.albedo * sigma_t) * in_light, sigma_t, dt_m);
-      diffuse = (m.light_illuminance * multiple) * cloud_light_diffusion(oc, v.y, tau_back, v.z, v.w, cos_theta) +
-                cloud_ambient(ph, oc, m.sky_radiance, m.ground_radiance, v.z, v.w, around, mu);
-      float step_t = exp(-sigma_t * dt_m);
-      owed += transmittance * m.albedo * (1.0f - step_t);
-      float share = owed * cloud_lookahead_share(oc, sigma_t * dt_m);
-      radiance += share * diffuse;
-      owed -= share;
-      float w = transmittance * (1.0f - step_t);
-      depth_sum += w * t * m.voxel_size_m;
-      weight_sum += w;
-      transmittance *= step_t;
-      if (transmittance < CLOUD_OPAQUE_TRANSMITTANCE) {
-        transmittance = 0.0f;
+      r = cloud_ray_step(r, ph, oc, m.light_illuminance, m.sky_radiance, m.ground_radiance, m.albedo, cos_theta, mu,
+                         sigma_t, dt_m, t * m.voxel_size_m, v.y, tau_back, v.z, v.w);
+      if (r.transmittance < CLOUD_OPAQUE_TRANSMITTANCE) {
+        r.transmittance = 0.0f;
         break;
       }
     }
   }
-  s.radiance = radiance + owed * diffuse;
-  s.transmittance = transmittance;
-  s.depth_m = weight_sum > 0.0f ? depth_sum / weight_sum : t_end * m.voxel_size_m;
+  s.radiance = r.radiance + r.owed * r.diffuse;
+  s.transmittance = r.transmittance;
+  s.depth_m = r.weight_sum > 0.0f ? r.depth_sum / r.weight_sum : t_end * m.voxel_size_m;
   return s;
 }
