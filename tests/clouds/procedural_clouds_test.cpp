@@ -456,4 +456,40 @@ TEST(ProceduralPerformance, DefaultLayersGenerateQuickly) {
   }
 }
 
+// Over more than 40 km a cumulus layer is one 40 km tile repeated, each row
+// of tiles shifted by its own amount: the clouds cover the whole area at the
+// tile's coverage (measured here on the whole area, independently), stay in
+// it, and the rows do not repeat one another.
+TEST(ProceduralCumulus, LargeAreasRepeatATileWithShiftedRows) {
+  const CloudLayerSpec s = make_spec(CloudLayerType::Cumulus, 4, 1200, 2500, 100000, 5);
+  const GeneratedLayer g = generate_cloud_layer(s);
+  const double mine = covered_fraction(project_area(g, s, 100.0));
+  std::printf("cumulus 100 km, 4 oktas: %zu instances, generator %.3f, re-projected over the area %.3f\n",
+              g.field.instances.size(), g.coverage_fraction, mine);
+  for (const std::string& n : g.notes) std::printf("  note: %s\n", n.c_str());
+  EXPECT_TRUE(has_note(g, "repeated"));
+  EXPECT_NEAR(mine, 0.5, 0.08);
+  const glm::dvec2 amin = s.area_centre_enu_m - 0.5 * s.area_size_m;
+  std::vector<double> row0, row1;  // east positions (mod the tile) of the clouds in the first two rows
+  for (const CloudInstance& inst : g.field.instances) {
+    const CloudVolume& v = g.field.prototypes[static_cast<size_t>(inst.prototype)];
+    const glm::dvec2 c = glm::dvec2(inst.origin_enu_m) + 0.5 * glm::dvec2(v.extent_m()) - amin;
+    ASSERT_GE(c.x, 0.0);
+    ASSERT_GE(c.y, 0.0);
+    ASSERT_LT(c.x, s.area_size_m);
+    ASSERT_LT(c.y, s.area_size_m);
+    if (c.y < 40000.0) row0.push_back(std::fmod(c.x, 40000.0));
+    else if (c.y < 80000.0) row1.push_back(std::fmod(c.x, 40000.0));
+  }
+  std::sort(row0.begin(), row0.end());
+  int same = 0;
+  for (double x : row1) {
+    const auto it = std::lower_bound(row0.begin(), row0.end(), x - 1.0);
+    if (it != row0.end() && *it <= x + 1.0) ++same;
+  }
+  std::printf("  clouds of row 1 at a row-0 cloud's east position (mod 40 km): %d of %zu\n", same, row1.size());
+  EXPECT_LT(same, static_cast<int>(row1.size()) / 10);
+  EXPECT_EQ(generate_cloud_layer(s).field.instances.size(), g.field.instances.size());  // deterministic
+}
+
 }  // namespace

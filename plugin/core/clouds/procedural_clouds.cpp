@@ -244,7 +244,51 @@ Footprint footprint_of(const CloudVolume& vol) {
   return f;
 }
 
+// Cumulus over more than this is one tile of it repeated: placing clouds is
+// O(area) (a ground raster and darts), repeating them O(clouds).
+constexpr double kCumulusTileM = 40000.0;
+
+void generate_cumulus(const CloudLayerSpec& spec, uint64_t seed, GeneratedLayer* out);
+
+// The layer over spec's area as copies of one kCumulusTileM tile, each row of
+// tiles shifted east by its own random fraction of the tile (wrapped inside
+// it), so the copies do not line up into a lattice. Clouds whose footprint's
+// centre falls outside the area are dropped. The coverage is the tile's.
+void repeat_cumulus_tile(const CloudLayerSpec& spec, uint64_t seed, GeneratedLayer* out) {
+  CloudLayerSpec tile = spec;
+  tile.area_size_m = kCumulusTileM;
+  GeneratedLayer t;
+  generate_cumulus(tile, seed, &t);
+  const double T = kCumulusTileM, A = spec.area_size_m;
+  const glm::dvec2 tile_min = spec.area_centre_enu_m - 0.5 * T, amin = spec.area_centre_enu_m - 0.5 * A;
+  const int n = static_cast<int>(std::ceil(A / T - 1e-9));
+  out->field.prototypes = std::move(t.field.prototypes);
+  out->coverage_fraction = t.coverage_fraction;
+  out->notes = std::move(t.notes);
+  for (int j = 0; j < n; ++j) {
+    const double shift = T * Rng(noise::derive_seed(seed, 500 + static_cast<uint64_t>(j))).uniform();
+    for (int i = 0; i < n; ++i)
+      for (const CloudInstance& inst : t.field.instances) {
+        const CloudVolume& v = out->field.prototypes[static_cast<size_t>(inst.prototype)];
+        const glm::dvec2 centre = glm::dvec2(inst.origin_enu_m) + 0.5 * glm::dvec2(v.extent_m());
+        const glm::dvec2 local = centre - tile_min;
+        const double x = std::fmod(std::fmod(local.x + shift, T) + T, T);
+        const glm::dvec2 placed = amin + glm::dvec2(x + i * T, local.y + j * T);
+        if (placed.x < amin.x || placed.y < amin.y || placed.x >= amin.x + A || placed.y >= amin.y + A) continue;
+        const glm::dvec2 d = placed - centre;
+        out->field.instances.push_back({inst.prototype, inst.origin_enu_m + glm::dvec3(d, 0.0)});
+      }
+  }
+  out->notes.push_back(format("cumulus: a %.0f km tile (%zu clouds) repeated over the %.0f km area, each row of "
+                              "tiles shifted; coverage measured on the tile",
+                              T / 1000.0, t.field.instances.size(), A / 1000.0));
+}
+
 void generate_cumulus(const CloudLayerSpec& spec, uint64_t seed, GeneratedLayer* out) {
+  if (spec.area_size_m > kCumulusTileM) {
+    repeat_cumulus_tile(spec, seed, out);
+    return;
+  }
   const double depth = spec.top_m - spec.base_m;
   const double area = spec.area_size_m;
   if (depth > kCumulusMaxWidthM)
