@@ -357,7 +357,7 @@ class Study {
         std::fprintf(stderr, "layer march, clipmap %d voxels a side\n", size);
         apply(state(ATMO_CLOUD_DRAW_LAYER));
         host_.context()->clouds.settings.clipmap.size = size;
-        host_.context()->clouds.clipmap_built_for = 0;  // rebuilt at the new width
+        ++host_.context()->clouds.version;  // the geometry, mips and levels made again at the new width
         steady_row("layer march: clipmap width (label: voxels a side)", "clipmap " + std::to_string(size),
                    std::to_string(size), end, refs[0], skies[0]);
       }

@@ -300,11 +300,12 @@ bool update_clipmap(ContextClouds* c, const glm::dvec3& eye) {
   const auto t0 = std::chrono::steady_clock::now();
   if (c->mips_version != c->version) {
     c->mips = clouds::build_prototype_mips(c->field, c->depths, c->lit_direction_enu);
+    c->clipmap_geometry = clouds::clipmap_geometry(c->field, c->settings.clipmap);
     c->mips_version = c->version;
   }
-  const glm::ivec2 cell = clouds::clipmap_cell(c->field, c->settings.clipmap, eye);
+  const glm::ivec2 cell = clouds::clipmap_cell(c->clipmap_geometry, eye);
   if (c->clipmap_built_for == c->version && !c->clipmap.levels.empty() && c->clipmap.cell == cell) return false;
-  c->clipmap = clouds::build_clipmap(c->field, c->mips, c->ray_index, c->settings.clipmap, cell);
+  c->clipmap = clouds::build_clipmap(c->field, c->mips, c->ray_index, c->settings.clipmap, c->clipmap_geometry, cell);
   c->clipmap_built_for = c->version;
   ++c->clipmap_version;
   c->clipmap_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -68,7 +68,8 @@ struct ContextClouds {
   // The layer march's clipmap (update_clipmap): the prototypes' mips per
   // light, the levels per (light, eye cell); instances found through ray_index.
   std::vector<clouds::PrototypeMips> mips;
-  uint64_t mips_version = 0;                 // `version` the mips were built for (0: none)
+  clouds::ClipmapGeometry clipmap_geometry;  // with the mips
+  uint64_t mips_version = 0;                 // `version` the mips and the geometry were made for (0: none)
   clouds::CloudClipmap clipmap;
   uint64_t clipmap_version = 0;              // bumps when the clipmap changes (GL re-uploads)
   uint64_t clipmap_built_for = 0;            // `version` of its last build

@@ -9,9 +9,6 @@
 
 namespace atmo::gl {
 
-using clouds::kOctaveFloatCount;
-using clouds::kOctaveFloats;
-
 bool CloudLayerRenderer::init(std::string* error) {
   if (initialised()) return true;
   program_ = build_program("fullscreen.vert", "clouds_layer.frag", "", error);
@@ -39,10 +36,7 @@ bool CloudLayerRenderer::init(std::string* error) {
   light_dir_ = loc("u_layer.light_dir");
   sky_radiance_ = loc("u_layer.sky_radiance");
   ground_radiance_ = loc("u_layer.ground_radiance");
-  octave_count_ = loc("u_octaves.count");
-  up_grid_ = loc("u_octaves.up_grid");
-  for (size_t i = 0; i < kOctaveFloatCount; ++i)
-    octave_floats_[i] = loc(("u_octaves." + std::string(kOctaveFloats[i].name)).c_str());
+  octaves_.locate(program_);
   return check_gl("building the cloud layer program", error);
 }
 
@@ -124,9 +118,7 @@ void CloudLayerRenderer::use(const clouds::twin::CloudLayerMarch& m, const cloud
   glUniform3fv(light_dir_, 1, glm::value_ptr(m.light_dir));
   glUniform3fv(sky_radiance_, 1, glm::value_ptr(m.sky_radiance));
   glUniform3fv(ground_radiance_, 1, glm::value_ptr(m.ground_radiance));
-  glUniform1i(octave_count_, oc.count);
-  glUniform3fv(up_grid_, 1, glm::value_ptr(oc.up_grid));
-  for (size_t i = 0; i < kOctaveFloatCount; ++i) glUniform1f(octave_floats_[i], oc.*kOctaveFloats[i].field);
+  octaves_.set(oc);
 }
 
 }  // namespace atmo::gl

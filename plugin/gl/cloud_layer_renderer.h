@@ -13,6 +13,7 @@
 
 #include "core/clouds/cloud_clipmap.h"
 #include "core/clouds/cloud_optics.h"
+#include "gl/cloud_octave_uniforms.h"
 #include "gl/pass_uniforms.h"
 
 namespace atmo::gl {
@@ -40,8 +41,8 @@ class CloudLayerRenderer {
   GLint divisor_ = -1, full_viewport_ = -1, tex_a_ = -1, tex_b_ = -1, size_ = -1, clouds_from_enu_ = -1;
   GLint level_count_ = -1, level_origin_ = -1, level_dims_ = -1, phases_ = -1, phase_um_ = -1, phase_count_ = -1,
         bottom_ = -1, top_ = -1, step_voxels_ = -1, max_steps_ = -1, albedo_ = -1, light_illuminance_ = -1,
-        light_dir_ = -1, sky_radiance_ = -1, ground_radiance_ = -1, octave_count_ = -1, up_grid_ = -1;
-  std::array<GLint, clouds::kOctaveFloatCount> octave_floats_{};
+        light_dir_ = -1, sky_radiance_ = -1, ground_radiance_ = -1;
+  OctaveUniforms octaves_;
   GLuint tex_a = 0, tex_b = 0;
   glm::vec3 texture_size_{1.0f};
   uint64_t uploaded_version_ = 0;

@@ -12,9 +12,6 @@
 
 namespace atmo::gl {
 
-using clouds::kOctaveFloatCount;
-using clouds::kOctaveFloats;
-
 namespace {
 constexpr GLuint kCloudUnit = kPassUnitsUsed;  // the 3D atlas (march, bake), impostor colour (boards), the image (composite)
 constexpr GLuint kImpostorDepthUnit = kPassUnitsUsed + 1;
@@ -61,10 +58,7 @@ bool CloudRenderer::init(std::string* error) {
     u.ground_radiance = loc("u_ground_radiance");
     u.step_voxels = loc("u_step_voxels");
     u.max_steps = loc("u_max_steps");
-    u.octave_count = loc("u_octaves.count");
-    u.up_grid = loc("u_octaves.up_grid");
-    for (size_t i = 0; i < kOctaveFloatCount; ++i)
-      u.octave_floats[i] = loc(("u_octaves." + std::string(kOctaveFloats[i].name)).c_str());
+    u.octaves.locate(program);
     return u;
   };
   march_.pass = locate_pass_uniforms(march_.program);
@@ -235,9 +229,7 @@ void CloudRenderer::set_cloud_uniforms(const InstanceUniforms& u, const CloudFra
   glUniform3fv(u.ground_radiance, 1, glm::value_ptr(glm::vec3(frame.light.ground_radiance)));
   glUniform1f(u.step_voxels, frame.step_voxels);
   glUniform1i(u.max_steps, 512);
-  glUniform1i(u.octave_count, frame.octaves.count);
-  glUniform3fv(u.up_grid, 1, glm::value_ptr(frame.octaves.up_grid));
-  for (size_t i = 0; i < kOctaveFloatCount; ++i) glUniform1f(u.octave_floats[i], frame.octaves.*kOctaveFloats[i].field);
+  u.octaves.set(frame.octaves);
 }
 
 void CloudRenderer::pack_instance(const CloudFrameInputs& frame, size_t index, float weight,
@@ -388,7 +380,7 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
     set_draw_state();  // blending off: the march writes every pixel of the image
     if (!begin_image(w, h, error)) return false;
     const clouds::twin::CloudLayerMarch march = clouds::make_layer_march(
-        *frame.field, *frame.clipmap, frame.eye_in_clouds_m, frame.light, frame.step_voxels, frame.layer_max_steps);
+        *frame.clipmap, frame.eye_in_clouds_m, frame.light, frame.step_voxels, frame.layer_max_steps);
     if (!use_pass_program(renderer, in, layer_.program(), layer_.pass(), layer_.divisor_uniform(),
                           layer_.full_viewport_uniform(), w, h, d, error))
       return false;

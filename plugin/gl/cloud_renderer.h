@@ -22,6 +22,7 @@
 #include "core/clouds/cloud_twin.h"
 #include "core/clouds/impostor_policy.h"
 #include "gl/cloud_layer_renderer.h"
+#include "gl/cloud_octave_uniforms.h"
 #include "gl/impostor_atlas.h"
 #include "gl/pass_uniforms.h"
 
@@ -86,8 +87,7 @@ class CloudRenderer {
   struct InstanceUniforms {
     GLint atlas = -1, atlas_size = -1, instances = -1, instance_count = -1, light_illuminance = -1,
           sky_radiance = -1, ground_radiance = -1, step_voxels = -1, max_steps = -1;
-    GLint octave_count = -1, up_grid = -1;
-    std::array<GLint, clouds::kOctaveFloatCount> octave_floats{};  // in kOctaveFloats' order
+    OctaveUniforms octaves;
   };
   struct MarchProgram {
     GLuint program = 0;

@@ -97,8 +97,9 @@ Comparison compare(const Scene& s, const glm::dvec3& eye, double azimuth0_deg, d
   spec.size = size;
   const CloudRayIndex buckets = build_cloud_ray_index(s.field);
   const std::vector<PrototypeMips> mips = build_prototype_mips(s.field, s.depths, s.light.direction_enu);
-  const CloudClipmap map = build_clipmap(s.field, mips, buckets, spec, clipmap_cell(s.field, spec, eye));
-  const twin::CloudLayerMarch m = make_layer_march(s.field, map, eye, s.light, step_voxels, max_steps);
+  const ClipmapGeometry geometry = clipmap_geometry(s.field, spec);
+  const CloudClipmap map = build_clipmap(s.field, mips, buckets, spec, geometry, clipmap_cell(geometry, eye));
+  const twin::CloudLayerMarch m = make_layer_march(map, eye, s.light, step_voxels, max_steps);
   const twin::CloudOctaves oc = default_octaves();
   Comparison c;
   double diff = 0.0, sum = 0.0;
@@ -160,11 +161,12 @@ TEST(CloudClipmap, BudgetAndDeterminism) {
   const CloudRayIndex buckets = build_cloud_ray_index(s.field);
   const std::vector<PrototypeMips> mips = build_prototype_mips(s.field, s.depths, s.light.direction_enu);
   const glm::dvec3 eye(10.0, 20.0, 1500.0), eye2(40.0, 60.0, 1500.0);
-  ASSERT_EQ(clipmap_cell(s.field, spec, eye), clipmap_cell(s.field, spec, eye2));
+  const ClipmapGeometry geometry = clipmap_geometry(s.field, spec);
+  ASSERT_EQ(clipmap_cell(geometry, eye), clipmap_cell(geometry, eye2));
   const auto t0 = std::chrono::steady_clock::now();
-  const CloudClipmap a = build_clipmap(s.field, mips, buckets, spec, clipmap_cell(s.field, spec, eye));
+  const CloudClipmap a = build_clipmap(s.field, mips, buckets, spec, geometry, clipmap_cell(geometry, eye));
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  const CloudClipmap b = build_clipmap(s.field, mips, buckets, spec, clipmap_cell(s.field, spec, eye2));
+  const CloudClipmap b = build_clipmap(s.field, mips, buckets, spec, geometry, clipmap_cell(geometry, eye2));
   std::printf("clipmap of %zu clouds: %zu levels, %.1f MiB, built in %.0f ms\n", s.field.instances.size(),
               a.levels.size(), a.memory_bytes() / 1048576.0, ms);
   ASSERT_EQ(a.levels.size(), b.levels.size());
@@ -174,7 +176,7 @@ TEST(CloudClipmap, BudgetAndDeterminism) {
   }
   const twin::CloudOctaves oc = default_octaves();
   for (int budget : {16, 64}) {
-    const twin::CloudLayerMarch m = make_layer_march(s.field, a, eye, s.light, 1.0f, budget);
+    const twin::CloudLayerMarch m = make_layer_march(a, eye, s.light, 1.0f, budget);
     for (double el : {-0.5, 0.2, 1.0, 3.0, 20.0, 89.0}) {
       const double e = el * M_PI / 180.0;
       const twin::CloudLayerSample r = march_layer_ray(a, m, oc, glm::dvec3(0.0, std::cos(e), std::sin(e)), 1e30);
@@ -226,10 +228,11 @@ TEST(CloudClipmap, StabilitySweepOverTypesCoverEyesAndLight) {
         cs.size = 64;
         const CloudRayIndex buckets = build_cloud_ray_index(field);
         const std::vector<PrototypeMips> mips = build_prototype_mips(field, depths, light.direction_enu);
+        const ClipmapGeometry geometry = clipmap_geometry(field, cs);
         for (double eye_z : {spec.base_m - 500.0, 0.5 * (spec.base_m + spec.top_m), spec.top_m + 2000.0, 20000.0}) {
           const glm::dvec3 eye(100.0, -300.0, eye_z);
-          const CloudClipmap map = build_clipmap(field, mips, buckets, cs, clipmap_cell(field, cs, eye));
-          const twin::CloudLayerMarch m = make_layer_march(field, map, eye, light, 1.0f, 96);
+          const CloudClipmap map = build_clipmap(field, mips, buckets, cs, geometry, clipmap_cell(geometry, eye));
+          const twin::CloudLayerMarch m = make_layer_march(map, eye, light, 1.0f, 96);
           for (int d = 0; d < 12; ++d) {
             const double el = (-90.0 + 180.0 * d / 11.0) * M_PI / 180.0, az = 0.7 * d;
             const glm::dvec3 dir(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el));

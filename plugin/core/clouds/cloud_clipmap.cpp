@@ -71,21 +71,18 @@ void field_bounds(const CloudField& field, glm::dvec3* lo, glm::dvec3* hi) {
 
 // Levels until one centred at `centre` holds the whole field (less its
 // 2-voxel margins), or spec.max_levels.
-int levels_needed(const CloudField& field, const ClipmapSpec& spec, double base_m, const glm::dvec2& centre) {
-  glm::dvec3 lo, hi;
-  field_bounds(field, &lo, &hi);
+int levels_needed(const glm::dvec3& lo, const glm::dvec3& hi, const ClipmapSpec& spec, double base_m,
+                  const glm::dvec2& centre) {
   const double reach = std::max({centre.x - lo.x, hi.x - centre.x, centre.y - lo.y, hi.y - centre.y});
   int n = 1;
   while (n < spec.max_levels && (0.5 * spec.size - 3.0) * base_m * std::ldexp(1.0, n - 1) < reach) ++n;
   return n;
 }
 
-double voxels_for(const CloudField& field, const ClipmapSpec& spec, double base_m) {
-  glm::dvec3 lo, hi;
-  field_bounds(field, &lo, &hi);
+double voxels_for(const glm::dvec3& lo, const glm::dvec3& hi, const ClipmapSpec& spec, double base_m) {
   double total = 0.0;
   // The most levels any centre over the field needs: one centred at a corner.
-  const int n = levels_needed(field, spec, base_m, glm::dvec2(lo));
+  const int n = levels_needed(lo, hi, spec, base_m, glm::dvec2(lo));
   for (int l = 0; l < n; ++l)
     total += double(spec.size) * spec.size * (std::ceil((hi.z - lo.z) / std::ldexp(base_m, l)) + 2.0);
   return total;
@@ -141,35 +138,48 @@ std::vector<PrototypeMips> build_prototype_mips(const CloudField& field, const s
   return out;
 }
 
-double clipmap_base_voxel_m(const CloudField& field, const ClipmapSpec& spec) {
+ClipmapGeometry clipmap_geometry(const CloudField& field, const ClipmapSpec& spec) {
+  ClipmapGeometry g;
+  field_bounds(field, &g.lo, &g.hi);
   double base = spec.base_voxel_m;
   if (!(base > 0.0)) {
     base = std::numeric_limits<double>::max();
     for (const CloudVolume& v : field.prototypes) base = std::min(base, double(v.voxel_size_m));
     if (field.prototypes.empty()) base = 50.0;
   }
-  while (voxels_for(field, spec, base) > kMaxClipmapVoxels) base *= 1.25;
-  return base;
+  if (!field.instances.empty())
+    while (voxels_for(g.lo, g.hi, spec, base) > kMaxClipmapVoxels) base *= 1.25;
+  g.base_voxel_m = base;
+  g.cell_m = 0.25 * spec.size * base;
+  return g;
 }
 
-glm::ivec2 clipmap_cell(const CloudField& field, const ClipmapSpec& spec, const glm::dvec3& eye_m) {
-  const double cell_m = 0.25 * spec.size * clipmap_base_voxel_m(field, spec);
-  return glm::ivec2(static_cast<int>(std::floor(eye_m.x / cell_m)), static_cast<int>(std::floor(eye_m.y / cell_m)));
+glm::ivec2 clipmap_cell(const ClipmapGeometry& g, const glm::dvec3& eye_m) {
+  return glm::ivec2(static_cast<int>(std::floor(eye_m.x / g.cell_m)), static_cast<int>(std::floor(eye_m.y / g.cell_m)));
 }
 
 CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeMips>& mips,
-                           const CloudRayIndex& index, const ClipmapSpec& spec, const glm::ivec2& cell) {
+                           const CloudRayIndex& index, const ClipmapSpec& spec, const ClipmapGeometry& geometry,
+                           const glm::ivec2& cell) {
   CloudClipmap out;
   out.cell = cell;
+  // The field's droplet diameters, ascending, at most the table's size.
+  for (const CloudVolume& v : field.prototypes) {
+    out.droplet_um.push_back(std::clamp(v.optics.droplet_diameter_um, 5.0f, 50.0f));
+    out.albedo = std::min(out.albedo, v.optics.albedo);
+  }
+  if (out.droplet_um.empty()) out.droplet_um.push_back(20.0f);
+  std::vector<float>& um = out.droplet_um;
+  std::sort(um.begin(), um.end());
+  um.erase(std::unique(um.begin(), um.end()), um.end());
+  while (um.size() > CLOUD_LAYER_PHASES) um.erase(um.begin() + 1);  // keep the ends
   if (field.instances.empty()) return out;
-  glm::dvec3 lo, hi;
-  field_bounds(field, &lo, &hi);
+  const glm::dvec3& lo = geometry.lo;
+  const glm::dvec3& hi = geometry.hi;
   out.bottom_m = lo.z, out.top_m = hi.z;
-  out.field_min_m = glm::dvec2(lo), out.field_max_m = glm::dvec2(hi);
-  const double base = clipmap_base_voxel_m(field, spec);
-  const double cell_m = 0.25 * spec.size * base;
-  const glm::dvec2 centre = (glm::dvec2(cell) + 0.5) * cell_m;
-  const int n_levels = levels_needed(field, spec, base, centre);
+  const double base = geometry.base_voxel_m;
+  const glm::dvec2 centre = (glm::dvec2(cell) + 0.5) * geometry.cell_m;
+  const int n_levels = levels_needed(lo, hi, spec, base, centre);
   // An instance as one level samples it: its mip, and index space from the clouds' frame.
   struct Placed {
     const PrototypeMips::Mip* mip;
@@ -242,8 +252,8 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
   return out;
 }
 
-twin::CloudLayerMarch make_layer_march(const CloudField& field, const CloudClipmap& clipmap, const glm::dvec3& eye_m,
-                                       const CloudLight& light, float step_voxels, int max_steps) {
+twin::CloudLayerMarch make_layer_march(const CloudClipmap& clipmap, const glm::dvec3& eye_m, const CloudLight& light,
+                                       float step_voxels, int max_steps) {
   twin::CloudLayerMarch m{};
   m.level_count = std::min(static_cast<int>(clipmap.levels.size()), CLOUD_LAYER_MAX_LEVELS);
   int slice = 0;
@@ -253,17 +263,8 @@ twin::CloudLayerMarch make_layer_march(const CloudField& field, const CloudClipm
     m.level_dims[l] = glm::vec4(L.nx, L.ny, L.nz, slice);
     slice += L.nz;
   }
-  // The field's droplet diameters, ascending, at most the table's size.
-  std::vector<float> um;
-  m.albedo = 1.0f;
-  for (const CloudVolume& v : field.prototypes) {
-    um.push_back(std::clamp(v.optics.droplet_diameter_um, 5.0f, 50.0f));
-    m.albedo = std::min(m.albedo, v.optics.albedo);
-  }
-  if (um.empty()) um.push_back(20.0f);
-  std::sort(um.begin(), um.end());
-  um.erase(std::unique(um.begin(), um.end()), um.end());
-  while (um.size() > CLOUD_LAYER_PHASES) um.erase(um.begin() + 1);  // keep the ends
+  m.albedo = clipmap.albedo;
+  const std::vector<float>& um = clipmap.droplet_um;
   m.phase_count = static_cast<int>(um.size());
   for (int i = 0; i < m.phase_count; ++i) {
     const twin::CloudPhase ph = phase_for_droplet(um[static_cast<size_t>(i)]);

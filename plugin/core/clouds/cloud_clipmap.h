@@ -52,11 +52,23 @@ struct PrototypeMips {
   std::vector<Mip> mips;
 };
 
+// What the levels' placement takes from the field, once per field: its
+// boxes' bounds, level 0's voxel (the finest prototype's, coarsened until all
+// levels fit the voxel budget) and the cell the levels are centred on.
+struct ClipmapGeometry {
+  glm::dvec3 lo{0.0}, hi{0.0};  // the instances' boxes, the clouds' frame
+  double base_voxel_m = 0.0;
+  double cell_m = 0.0;          // a quarter of level 0's width
+};
+
 struct CloudClipmap {
   std::vector<ClipmapLevel> levels;
   double bottom_m = 0.0, top_m = 0.0;   // the field's boxes' lowest and highest height
-  glm::dvec2 field_min_m{0.0}, field_max_m{0.0};
   glm::ivec2 cell{0};                    // the eye's lattice cell the levels were centred for
+  // The field's droplet diameters (um, ascending, at most CLOUD_LAYER_PHASES)
+  // and its lowest single-scattering albedo: the march's phase table.
+  std::vector<float> droplet_um;
+  float albedo = 1.0f;
   size_t memory_bytes() const;
 };
 
@@ -64,16 +76,20 @@ struct CloudClipmap {
 std::vector<PrototypeMips> build_prototype_mips(const CloudField& field, const std::vector<LightDepths>& depths,
                                                 const glm::dvec3& light_dir_enu);
 
+// O(instances): compute it when the field changes, not per frame.
+ClipmapGeometry clipmap_geometry(const CloudField& field, const ClipmapSpec& spec);
+
 // The lattice cell the eye is in: the levels are centred on it, so the
 // clipmap changes only when the eye crosses into another cell (a quarter of
 // level 0's width), and two views whose eyes share a cell share it.
-glm::ivec2 clipmap_cell(const CloudField& field, const ClipmapSpec& spec, const glm::dvec3& eye_m);
-double clipmap_base_voxel_m(const CloudField& field, const ClipmapSpec& spec);
+glm::ivec2 clipmap_cell(const ClipmapGeometry& geometry, const glm::dvec3& eye_m);
 
 // Builds every level centred on `cell`; `index` (build_cloud_ray_index) finds
-// the instances over a column. O(levels x size^2 x nz x instances per bucket).
+// the instances over a column, `geometry` is clipmap_geometry(field, spec).
+// O(levels x size^2 x nz x instances per bucket).
 CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeMips>& mips,
-                           const CloudRayIndex& index, const ClipmapSpec& spec, const glm::ivec2& cell);
+                           const CloudRayIndex& index, const ClipmapSpec& spec, const ClipmapGeometry& geometry,
+                           const glm::ivec2& cell);
 
 // The march's volume on the CPU (cloud_layer_march.glsl's CLOUD_LAYER).
 struct CpuCloudLayer {
@@ -82,8 +98,8 @@ struct CpuCloudLayer {
 
 // The layer march's inputs for an eye (the clouds' frame, m): the levels
 // relative to the eye, the field's droplet phases, the light.
-twin::CloudLayerMarch make_layer_march(const CloudField& field, const CloudClipmap& clipmap, const glm::dvec3& eye_m,
-                                       const CloudLight& light, float step_voxels, int max_steps);
+twin::CloudLayerMarch make_layer_march(const CloudClipmap& clipmap, const glm::dvec3& eye_m, const CloudLight& light,
+                                       float step_voxels, int max_steps);
 
 // The C++ twin of the GLSL layer march (no air): a ray from the eye along unit dir to t_max_m.
 twin::CloudLayerSample march_layer_ray(const CloudClipmap& clipmap, const twin::CloudLayerMarch& march,
