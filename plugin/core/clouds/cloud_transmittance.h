@@ -8,42 +8,34 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "core/clouds/cloud_field.h"
 
 namespace atmo::clouds {
 
 struct CloudRayIndex {
-  glm::dvec2 corner_enu_m{0.0}; // (east, north) of the grid's south-west corner
-  double cell_m = 1.0;          // bucket edge, m
-  int nx = 0, ny = 0;           // buckets (0: an empty field)
-  double z_lo_m = 0.0, z_hi_m = 0.0; // the boxes' height range
-  std::vector<uint32_t> start; // nx * ny + 1 offsets into `items`, east fastest
-  std::vector<uint32_t> items; // instance indices, bucket by bucket
+  glm::dvec2 corner_enu_m{0.0};       // (east, north) of the grid's south-west corner
+  double cell_m = 1.0;                // bucket edge, m
+  int nx = 0, ny = 0;                 // buckets (0: an empty field)
+  double z_lo_m = 0.0, z_hi_m = 0.0;  // the boxes' height range
+  std::vector<uint32_t> start;        // nx * ny + 1 offsets into `items`, east fastest
+  std::vector<uint32_t> items;        // instance indices, bucket by bucket
 
-  size_t memory_bytes() const {
-    return (start.size() + items.size()) * sizeof(uint32_t);
-  }
+  size_t memory_bytes() const { return (start.size() + items.size()) * sizeof(uint32_t); }
 };
 
 // Buckets of at least the widest box's footprint (so a box lies in at most
 // 4 buckets when boxes are alike), at most max_cells_per_side per side.
-CloudRayIndex build_cloud_ray_index(const CloudField &field,
-                                    int max_cells_per_side = 512);
+CloudRayIndex build_cloud_ray_index(const CloudField& field, int max_cells_per_side = 512);
 
 // exp(-tau) of every instance box the ray origin + t dir (t in [0,
 // max_distance_m], dir unit, ENU of the field) crosses: the trilinear density
 // times the box's extinction, midpoint steps of step_voxels voxels per box
 // (overlapping boxes add, as field_density_at sums). Stops once tau > 50
 // (exp(-50) = 2e-22) and returns 0 then.
-double transmittance_along_ray(const CloudField &field,
-                               const CloudRayIndex &index,
-                               const glm::dvec3 &origin_enu_m,
-                               const glm::dvec3 &dir_enu,
-                               double max_distance_m = 1e300,
-                               double step_voxels = 0.5);
+double transmittance_along_ray(const CloudField& field, const CloudRayIndex& index, const glm::dvec3& origin_enu_m,
+                               const glm::dvec3& dir_enu, double max_distance_m = 1e300, double step_voxels = 0.5);
 
-} // namespace atmo::clouds
+}  // namespace atmo::clouds
