@@ -37,6 +37,14 @@ inline void log_to_stderr(void*, int32_t severity, const char* message) {
   if (severity >= ATMO_LOG_WARNING) std::fprintf(stderr, "[atmo] %s\n", message);
 }
 
+// The median (the mean of the two middle values for an even count); 0 for none.
+inline double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
 inline void copy(const glm::dmat4& m, double out[16]) {
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 4; ++r) out[c * 4 + r] = m[c][r];

@@ -85,17 +85,11 @@ namespace {
 
 using cloud_bench::Camera;
 using cloud_bench::Host;
+using cloud_bench::median;
 using atmo::support::Image;
 
 double now_s() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 double mean(const std::vector<double>& v) {

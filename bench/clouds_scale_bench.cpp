@@ -25,6 +25,7 @@ namespace {
 
 using cloud_bench::Camera;
 using cloud_bench::Host;
+using cloud_bench::median;
 
 struct Case {
   std::string name;
@@ -62,11 +63,6 @@ std::vector<Case> cases() {
 
 double now_ms() {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
 // The UTC (2024-07-10 morning) at which the Sun stands `elevation_deg` up at the camera.
