@@ -118,10 +118,19 @@ class Host {
   }
 
   void set_utc(double utc_posix_s) {
+    utc_posix_s_ = utc_posix_s;
     auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
     frame.utc_posix_s = utc_posix_s;
+    frame.host_frame_number = frame_number_;
     check(api_.set_frame(ctx_, &frame), "set_frame");
   }
+  // The next frame (host_frame_number + 1), at the same time.
+  void next_frame() {
+    ++frame_number_;
+    set_utc(utc_posix_s_);
+  }
+  // The views' AtmoViewState.cloud_quality from the next set_view on.
+  void set_cloud_quality(uint32_t quality) { cloud_quality_ = quality; }
 
   // The Sun's apparent elevation at the view's eye (set_view first), degrees.
   double sun_elevation_deg() {
@@ -182,6 +191,7 @@ class Host {
     vs.eye_geodetic[1] += cam.east_m / (111320.0 * std::cos(glm::radians(kOriginLatDeg)));
     vs.exposure_scale = 1e-4;
     vs.output_encoding = encoding;
+    vs.cloud_quality = cloud_quality_;
     check(api_.set_view(view_, &vs), "set_view");
   }
 
@@ -238,6 +248,9 @@ class Host {
   std::unique_ptr<atmo::support::HeadlessGl> gl_;
   std::unique_ptr<atmo::support::OffscreenTarget> target_;
   GLuint far_depth_ = 0, query_ = 0;
+  double utc_posix_s_ = kUtcPosixS;
+  uint64_t frame_number_ = 0;
+  uint32_t cloud_quality_ = ATMO_CLOUD_QUALITY_DEFAULT;
   AtmoPluginApi api_{};
   AtmoHostServices services_ = atmo::make<AtmoHostServices>(ATMO_TYPE_HOST_SERVICES);
   AtmoContext ctx_ = nullptr;

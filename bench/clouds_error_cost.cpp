@@ -41,6 +41,14 @@
 //   layer      the layer march (ATMO_CLOUD_DRAW_LAYER), divisor 1, 2, 4 x a
 //              step budget of 48, 96, 192 (the default), 384 steps a pixel,
 //              at the same eye and against the same reference as `direct`.
+//   quality    the view's cost knob (AtmoViewState.cloud_quality: low,
+//              medium, medium without temporal, high, full) of the layer
+//              march on three views, each against its own direct-march
+//              reference: this scene at the texels sweep's last eye, 8-okta
+//              cumulus (1000-2800 m, a 10 km square) from inside the layer at
+//              1900 m, and inside an overcast deck (600-1100 m, 12 km) at
+//              850 m. psnr_worst_db: the first frame after a cut; psnr_db
+//              and cost: after max(4, --frames) frames at rest (converged).
 //   lighting   the lighting approximations (written to --lighting-csv)
 //              against the Monte Carlo path tracer (all orders), on the
 //              stored references of tests/clouds/octaves_vs_path_tracer_test.cpp
@@ -58,7 +66,7 @@
 //              of `--frames` frames.
 //
 // Usage: atmo_clouds_error_cost --csv OUT.csv --lighting-csv OUT2.csv
-//        [--width 640 --height 360 --frames 6 --path-frames 12 --only texels,threshold,direct,layer,lighting]
+//        [--width 640 --height 360 --frames 6 --path-frames 12 --only texels,threshold,direct,layer,quality,lighting]
 #include <glad/gl.h>
 
 #include <algorithm>
@@ -333,15 +341,17 @@ class Study {
         }
     }
     // The layer march (ATMO_CLOUD_DRAW_LAYER): resolution and the step budget
-    // (not yet an ABI knob: set in the context's settings, statically linked).
+    // every pixel every frame (the settings' overrides of the view's
+    // cloud_quality, statically linked).
     if (o_.wants("layer")) {
-      for (uint32_t divisor : {1u, 2u, 4u})
+      for (int divisor : {1, 2, 4})
         for (int steps : {48, 96, 192, 384}) {
-          std::fprintf(stderr, "layer march, divisor %u, %d steps\n", divisor, steps);
-          AtmoCloudsState s = state(ATMO_CLOUD_DRAW_LAYER);
-          s.march_resolution_divisor = divisor;
-          apply(s);
-          host_.context()->clouds.settings.layer_max_steps = steps;
+          std::fprintf(stderr, "layer march, divisor %d, %d steps\n", divisor, steps);
+          apply(state(ATMO_CLOUD_DRAW_LAYER));
+          atmo::abi::CloudSettings& settings = host_.context()->clouds.settings;
+          settings.layer_divisor = divisor;
+          settings.layer_max_steps = steps;
+          settings.layer_temporal = 0;
           steady_row("layer march: divisor " + std::to_string(divisor) + " (label: step budget)",
                      "d" + std::to_string(divisor) + " " + std::to_string(steps) + " steps", std::to_string(steps), end,
                      refs[0], skies[0]);
@@ -350,12 +360,14 @@ class Study {
       for (int size : {96, 192, 384}) {
         std::fprintf(stderr, "layer march, clipmap %d voxels a side\n", size);
         apply(state(ATMO_CLOUD_DRAW_LAYER));
+        host_.context()->clouds.settings.layer_temporal = 0;
         host_.context()->clouds.settings.clipmap.size = size;
         ++host_.context()->clouds.version;  // the geometry, mips and levels made again at the new width
         steady_row("layer march: clipmap width (label: voxels a side)", "clipmap " + std::to_string(size),
                    std::to_string(size), end, refs[0], skies[0]);
       }
     }
+    if (o_.wants("quality")) quality(end);
     write_csv();
     if (o_.wants("lighting")) lighting(end);
     summary();
@@ -398,6 +410,84 @@ class Study {
     r->impostors /= n;
     r->marched /= n;
     r->in_view /= n;
+  }
+
+  // The cost knob (AtmoViewState.cloud_quality) on three views: this scene,
+  // 8-okta cumulus from inside the layer, and inside an overcast deck. Per
+  // level: the first frame at the eye after a cut (from the warm-up frame
+  // looking down: psnr_worst_db), then --frames frames at rest (the image
+  // converges in 4): cost = their median, psnr_db = the last one's.
+  void quality(const Camera& scene_eye) {
+    struct View {
+      std::string name;
+      AtmoCloudLayer layer;
+      Camera eye;
+    };
+    std::vector<View> views;
+    views.push_back({"4-okta scene", layer_, scene_eye});
+    AtmoCloudLayer cu = layer_;
+    cu.coverage_oktas = 8;
+    cu.base_m = 1000.0;
+    cu.top_m = 2800.0;
+    cu.area_size_m = 10000.0;
+    cu.area_centre_enu_m[1] = 5000.0;
+    views.push_back({"8 oktas", cu, Camera{0.0, 200.0, 1900.0, 3.0}});
+    AtmoCloudLayer deck = layer_;
+    deck.type = ATMO_CLOUD_OVERCAST;
+    deck.coverage_oktas = 8;
+    deck.base_m = 600.0;
+    deck.top_m = 1100.0;
+    deck.area_size_m = 12000.0;
+    deck.area_centre_enu_m[1] = 0.0;
+    views.push_back({"inside a deck", deck, Camera{0.0, 0.0, 850.0, 5.0}});
+    struct Level {
+      const char* name;
+      uint32_t quality;
+      int temporal;  // CloudSettings::layer_temporal (-1: the level's)
+    };
+    const Level levels[] = {{"low", ATMO_CLOUD_QUALITY_LOW, -1},
+                            {"medium", ATMO_CLOUD_QUALITY_MEDIUM, -1},
+                            {"medium no temporal", ATMO_CLOUD_QUALITY_MEDIUM, 0},
+                            {"high", ATMO_CLOUD_QUALITY_HIGH, -1},
+                            {"full", ATMO_CLOUD_QUALITY_FULL, -1}};
+    const AtmoCloudLayer scene_layer = layer_;
+    for (const View& v : views) {
+      layer_ = v.layer;
+      std::fprintf(stderr, "quality: %s: the reference (direct march, divisor 1, step 0.5 voxels)\n", v.name.c_str());
+      host_.set_cloud_quality(ATMO_CLOUD_QUALITY_DEFAULT);
+      std::vector<Image> skies;
+      const Image ref = references({v.eye}, &skies)[0];
+      save("quality_" + std::to_string(&v - views.data()) + "_reference", ref);
+      for (const Level& l : levels) {
+        std::fprintf(stderr, "quality: %s, %s\n", v.name.c_str(), l.name);
+        host_.set_cloud_quality(l.quality);
+        apply(state(ATMO_CLOUD_DRAW_LAYER));
+        host_.context()->clouds.settings.layer_temporal = l.temporal;
+        Row r;
+        r.sweep = "quality: " + v.name;
+        r.setting = l.name;
+        r.label = l.name;
+        host_.next_frame();
+        const Frame cut = frame(v.eye);
+        r.psnr_worst_db = frame_error(cut.image, ref, skies[0]).psnr_db;
+        std::vector<double> ms, q;
+        Frame f;
+        for (int i = 0; i < std::max(4, o_.frames); ++i) {
+          host_.next_frame();
+          f = frame(v.eye);
+          ms.push_back(f.ms);
+          q.push_back(f.query_ms);
+          r.in_view += f.stats.in_view;
+        }
+        finish(&r, ms, q, false);
+        r.err = frame_error(f.image, ref, skies[0]);
+        save("quality_" + std::to_string(&v - views.data()) + "_" + l.name, f.image, &ref);
+        rows_.push_back(r);
+        print(r);
+      }
+    }
+    layer_ = scene_layer;
+    host_.set_cloud_quality(ATMO_CLOUD_QUALITY_DEFAULT);
   }
 
   static void print(const Row& r) {
@@ -636,7 +726,7 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: atmo_clouds_error_cost [--csv F] [--lighting-csv F] [--images DIR] [--width 640] "
-                   "[--height 360] [--frames 6] [--path-frames 12] [--only texels,threshold,direct,layer,lighting]\n");
+                   "[--height 360] [--frames 6] [--path-frames 12] [--only texels,threshold,direct,layer,quality,lighting]\n");
       return 2;
     }
   }

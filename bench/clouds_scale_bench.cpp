@@ -9,7 +9,9 @@
 // clipmap on the CPU, its GL textures). The eye moves 5 m a frame.
 //
 //   atmo_clouds_scale_bench [--mode layer|impostors|direct] [--frames N]
+//                           [--quality default|low|medium|high|full]
 //                           [--sizes 1280x720,1920x1080] [--only SUBSTRING] [--csv FILE]
+// --quality: the view's AtmoViewState.cloud_quality (the layer march's cost knob).
 #include <glad/gl.h>
 
 #include <algorithm>
@@ -81,6 +83,7 @@ double utc_for_sun(Host& host, const Camera& cam, double elevation_deg) {
 
 int main(int argc, char** argv) {
   uint32_t mode = ATMO_CLOUD_DRAW_LAYER;
+  uint32_t quality = ATMO_CLOUD_QUALITY_DEFAULT;
   int frames = 5;
   std::vector<std::pair<int, int>> sizes = {{1280, 720}, {1920, 1080}};
   std::string only, csv_path;
@@ -93,6 +96,17 @@ int main(int argc, char** argv) {
       ++i;
     } else if (a == "--frames") {
       frames = std::max(1, std::atoi(v));
+      ++i;
+    } else if (a == "--quality") {
+      const std::string q = v;
+      const char* names[] = {"default", "low", "medium", "high", "full"};
+      quality = ATMO_CLOUD_QUALITY_COUNT;
+      for (uint32_t k = 0; k < ATMO_CLOUD_QUALITY_COUNT; ++k)
+        if (q == names[k]) quality = k;
+      if (quality == ATMO_CLOUD_QUALITY_COUNT) {
+        std::fprintf(stderr, "atmo_clouds_scale_bench: --quality %s: expected default, low, medium, high or full\n", v);
+        return 2;
+      }
       ++i;
     } else if (a == "--only") {
       only = v;
@@ -121,7 +135,9 @@ int main(int argc, char** argv) {
                       "clipmap_MiB,gl_MiB,clipmap_ms\n");
   for (const auto& [w, h] : sizes) {
     Host host(w, h);
-    std::printf("== %dx%d, %s, mode %u, %d timed frames a case ==\n", w, h, host.gl().renderer().c_str(), mode, frames);
+    host.set_cloud_quality(quality);
+    std::printf("== %dx%d, %s, mode %u, cloud quality %u, %d timed frames a case ==\n", w, h,
+                host.gl().renderer().c_str(), mode, quality, frames);
     std::printf("%-48s %5s %7s %9s %9s %9s %8s %6s %7s %7s %7s\n", "case", "sun", "clouds", "set_ms", "first_ms",
                 "clouds_ms", "pair_ms", "ratio", "fieldMB", "mapMB", "glMB");
     for (const Case& c : cases()) {
@@ -146,6 +162,7 @@ int main(int argc, char** argv) {
         std::vector<double> clouds, pair;
         for (int f = 0; f < frames; ++f) {
           cam.east_m += 5.0;
+          host.next_frame();
           host.set_view(cam);
           host.target().bind();
           glClearColor(0, 0, 0, 1);

@@ -327,4 +327,13 @@ double cloud_transmittance_from_eye(const ContextClouds& c, const glm::dvec3& ey
   return clouds::transmittance_along_ray(c.field, c.ray_index, eye_in_cloud_frame(c, eye_ecef_m), dir);
 }
 
+clouds::CloudViewCost layer_view_cost(const CloudSettings& settings, uint32_t quality) {
+  clouds::CloudViewCost cost = clouds::cloud_view_cost(
+      quality == ATMO_CLOUD_QUALITY_DEFAULT ? clouds::kDefaultCloudQuality : static_cast<clouds::CloudQuality>(quality));
+  if (settings.layer_divisor > 0) cost.divisor = settings.layer_divisor;
+  if (settings.layer_max_steps > 0) cost.max_steps = settings.layer_max_steps;
+  if (settings.layer_temporal >= 0) cost.temporal = settings.layer_temporal != 0;
+  return cost;
+}
+
 }  // namespace atmo::abi

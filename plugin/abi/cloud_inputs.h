@@ -19,6 +19,7 @@
 #include "core/clouds/cloud_lighting.h"
 #include "core/clouds/cloud_optics.h"
 #include "core/clouds/cloud_shadow.h"
+#include "core/clouds/cloud_temporal.h"
 #include "core/clouds/cloud_transmittance.h"
 #include "core/clouds/impostor_policy.h"
 #include "core/geo/geodesy.h"
@@ -40,9 +41,15 @@ struct CloudSettings {
   bool direct_only = false;            // ATMO_CLOUD_DRAW_DIRECT: no impostors (the reference)
   bool layer = false;                  // ATMO_CLOUD_DRAW_LAYER: the layer march over the clipmap
   clouds::ClipmapSpec clipmap;
-  int layer_max_steps = 192;
+  // Benchmarks and tests only: the layer march's cost instead of the view's
+  // cloud_quality (0, -1: the view's).
+  int layer_divisor = 0, layer_max_steps = 0, layer_temporal = -1;
   clouds::ImpostorSettings impostors;
 };
+
+// The layer march's cost for a view of AtmoViewState.cloud_quality `quality`
+// (validated), with the settings' overrides.
+clouds::CloudViewCost layer_view_cost(const CloudSettings& settings, uint32_t quality);
 
 // A context's clouds. Only the host's thread touches it (and the relight
 // worker, which reads the field; see CloudRelightSlot).

@@ -40,6 +40,7 @@ struct AtmoContext_T {
   double utc_posix_s = 0.0;
   double dut1_s = 0.0;
   uint64_t frame_number = 0;
+  uint64_t views_created = 0;  // each view's serial: its key for per-view GL state (the clouds' history)
 
   // The CPU lookup tables the passes upload and get_lighting reads, and what
   // (air, ground albedo, sphere radius) they were built for. The first use
@@ -90,6 +91,7 @@ struct AtmoContext_T {
 struct AtmoView_T {
   AtmoContext_T* context = nullptr;
   uint32_t channel_id = 0;
+  uint64_t serial = 0;  // unique in its context, never reused
   bool have_state = false;
   AtmoViewState state{};
   atmo::core::EyeFrame eye;

@@ -182,6 +182,7 @@ Verdict validate_view(const AtmoViewState& s, core::EyeFrame* out) {
   if (!enum_value(&v, "AtmoViewState.output_encoding", s.output_encoding, 2)) return v;
   if (!enum_value(&v, "AtmoViewState.sky_method", s.sky_method, ATMO_SKY_METHOD_COUNT)) return v;
   if (!enum_value(&v, "AtmoViewState.depth_origin", s.depth_origin, 2)) return v;
+  if (!enum_value(&v, "AtmoViewState.cloud_quality", s.cloud_quality, ATMO_CLOUD_QUALITY_COUNT)) return v;
   if (s.aerial_range_m != 0.0 && !in_range(&v, "AtmoViewState.aerial_range_m", s.aerial_range_m, 100.0, 1e7, "m"))
     return v;
   if (!table_size(&v, "AtmoViewState.sky_view_table_size[0]", s.sky_view_table_size[0], 16, 1024)) return v;

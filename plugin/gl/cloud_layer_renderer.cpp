@@ -21,6 +21,8 @@ bool CloudLayerRenderer::init(std::string* error) {
   tex_b_ = loc("u_layer_b");
   size_ = loc("u_layer_size");
   clouds_from_enu_ = loc("u_clouds_from_enu");
+  trace_stride_ = loc("u_trace_stride");
+  trace_offset_ = loc("u_trace_offset");
   level_count_ = loc("u_layer.level_count");
   level_origin_ = loc("u_layer.level_origin[0]");
   level_dims_ = loc("u_layer.level_dims[0]");
@@ -91,7 +93,8 @@ bool CloudLayerRenderer::upload(const clouds::CloudClipmap& clipmap, uint64_t cl
 }
 
 void CloudLayerRenderer::use(const clouds::twin::CloudLayerMarch& m, const clouds::twin::CloudOctaves& oc,
-                             const glm::mat3& clouds_from_enu, GLuint unit_a, GLuint sampler) const {
+                             const glm::mat3& clouds_from_enu, int trace_stride, glm::ivec2 trace_offset,
+                             GLuint unit_a, GLuint sampler) const {
   glUseProgram(program_);
   glActiveTexture(GL_TEXTURE0 + unit_a);
   glBindTexture(GL_TEXTURE_3D, tex_a);
@@ -103,6 +106,8 @@ void CloudLayerRenderer::use(const clouds::twin::CloudLayerMarch& m, const cloud
   glUniform1i(tex_b_, static_cast<GLint>(unit_a + 1));
   glUniform3fv(size_, 1, glm::value_ptr(texture_size_));
   glUniformMatrix3fv(clouds_from_enu_, 1, GL_FALSE, glm::value_ptr(clouds_from_enu));
+  glUniform1i(trace_stride_, trace_stride);
+  glUniform2i(trace_offset_, trace_offset.x, trace_offset.y);
   glUniform1i(level_count_, m.level_count);
   glUniform4fv(level_origin_, CLOUD_LAYER_MAX_LEVELS, glm::value_ptr(m.level_origin[0]));
   glUniform4fv(level_dims_, CLOUD_LAYER_MAX_LEVELS, glm::value_ptr(m.level_dims[0]));

@@ -26,9 +26,11 @@ class CloudLayerRenderer {
   // Uploads the clipmap when clipmap_version changed. [gl-current]
   bool upload(const clouds::CloudClipmap& clipmap, uint64_t clipmap_version, std::string* error);
   // The program, with the march's uniforms set (the caller sets pass_common's
-  // and draws): textures on units `unit_a`, `unit_a + 1`.
+  // and draws): textures on units `unit_a`, `unit_a + 1`. trace_stride 2
+  // traces pixel 2 * fragment + trace_offset of the image (gl/cloud_temporal).
   void use(const clouds::twin::CloudLayerMarch& march, const clouds::twin::CloudOctaves& octaves,
-           const glm::mat3& clouds_from_enu, GLuint unit_a, GLuint sampler) const;
+           const glm::mat3& clouds_from_enu, int trace_stride, glm::ivec2 trace_offset, GLuint unit_a,
+           GLuint sampler) const;
   GLuint program() const { return program_; }
   const PassUniforms& pass() const { return pass_; }
   GLint divisor_uniform() const { return divisor_; }
@@ -38,7 +40,8 @@ class CloudLayerRenderer {
  private:
   GLuint program_ = 0;
   PassUniforms pass_;
-  GLint divisor_ = -1, full_viewport_ = -1, tex_a_ = -1, tex_b_ = -1, size_ = -1, clouds_from_enu_ = -1;
+  GLint divisor_ = -1, full_viewport_ = -1, tex_a_ = -1, tex_b_ = -1, size_ = -1, clouds_from_enu_ = -1, trace_stride_ = -1,
+        trace_offset_ = -1;
   GLint level_count_ = -1, level_origin_ = -1, level_dims_ = -1, phases_ = -1, phase_um_ = -1, phase_count_ = -1,
         bottom_ = -1, top_ = -1, step_voxels_ = -1, max_steps_ = -1, albedo_ = -1, light_illuminance_ = -1,
         light_dir_ = -1, sky_radiance_ = -1, ground_radiance_ = -1;

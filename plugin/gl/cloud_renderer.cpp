@@ -15,7 +15,7 @@ namespace atmo::gl {
 namespace {
 constexpr GLuint kCloudUnit = kPassUnitsUsed;  // the 3D atlas (march, bake), impostor colour (boards), the image (composite)
 constexpr GLuint kImpostorDepthUnit = kPassUnitsUsed + 1;
-constexpr int kUnitsUsed = kPassUnitsUsed + 2;
+constexpr int kUnitsUsed = kPassUnitsUsed + 3;  // the resolve: trace, its depth, the history
 constexpr int kVec4PerInstance = 9;  // cloud_instance.glsl
 constexpr int kMaxInstancesPerBatch = 64;
 constexpr int kVec4PerBoard = 4;     // clouds_impostor.vert
@@ -117,6 +117,7 @@ void CloudRenderer::destroy() {
     if (s) glDeleteSamplers(1, &s);
   impostors_.destroy();
   layer_.destroy();
+  temporal_.destroy();
   forget();
 }
 
@@ -376,18 +377,30 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
   if (frame.layer) {
     if (!frame.clipmap || frame.clipmap->levels.empty()) return true;
     if (!layer_.init(error) || !layer_.upload(*frame.clipmap, frame.clipmap_version, error)) return false;
+    if (frame.temporal && !temporal_.init(error)) return false;
     stats_.in_view = static_cast<int>(instances.size());
     set_draw_state();  // blending off: the march writes every pixel of the image
-    if (!begin_image(w, h, error)) return false;
+    CloudTemporal::Plan plan;
+    if (frame.temporal) {
+      plan = temporal_.plan(frame.view_key, frame.temporal_view);
+      if (!temporal_.begin_trace(fbo_, plan, error)) return false;
+    } else if (!begin_image(w, h, error)) {
+      return false;
+    }
     const clouds::twin::CloudLayerMarch march = clouds::make_layer_march(
         *frame.clipmap, frame.eye_in_clouds_m, frame.light, frame.step_voxels, frame.layer_max_steps);
     if (!use_pass_program(renderer, in, layer_.program(), layer_.pass(), layer_.divisor_uniform(),
-                          layer_.full_viewport_uniform(), w, h, d, error))
+                          layer_.full_viewport_uniform(), frame.temporal ? plan.trace_w : w,
+                          frame.temporal ? plan.trace_h : h, d, error))
       return false;
-    layer_.use(march, frame.octaves, glm::mat3(glm::transpose(frame.eye_enu_from_clouds)), kCloudUnit,
-               linear_sampler_);
+    layer_.use(march, frame.octaves, glm::mat3(glm::transpose(frame.eye_enu_from_clouds)), frame.temporal ? 2 : 1,
+               plan.offset, kCloudUnit, linear_sampler_);
     glDrawArrays(GL_TRIANGLES, 0, 3);
-    composite(in, guard, w, h, d);
+    GLuint image = target_;
+    if (frame.temporal && !temporal_.resolve(fbo_, plan, frame.temporal_view, in.view_from_clip, in.enu_from_view,
+                                             in.depth_convention, kCloudUnit, linear_sampler_, &image, error))
+      return false;
+    composite(in, guard, image, w, h, d);
     *drawn = true;
     return check_gl("drawing the clouds (layer march)", error);
   }
@@ -501,7 +514,7 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
     march(frame, near);
   }
 
-  composite(in, guard, w, h, d);
+  composite(in, guard, target_, w, h, d);
   *drawn = true;
   return check_gl("drawing the clouds", error);
 }
@@ -546,7 +559,7 @@ bool CloudRenderer::use_pass_program(Renderer& renderer, const PassInputs& in, G
 }
 
 // The image over the host's frame.
-void CloudRenderer::composite(const PassInputs& in, GlStateGuard& guard, int w, int h, int d) {
+void CloudRenderer::composite(const PassInputs& in, GlStateGuard& guard, GLuint image, int w, int h, int d) {
   guard.restore_draw_framebuffer();
   glEnablei(GL_BLEND, 0);  // premultiplied
   set_blend_of_buffer0(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_FUNC_ADD, GL_FUNC_ADD);
@@ -558,7 +571,7 @@ void CloudRenderer::composite(const PassInputs& in, GlStateGuard& guard, int w, 
   glUniform4f(composite_viewport_, static_cast<float>(in.viewport[0]), static_cast<float>(in.viewport[1]),
               static_cast<float>(w * d), static_cast<float>(h * d));
   glActiveTexture(GL_TEXTURE0 + kCloudUnit);
-  glBindTexture(GL_TEXTURE_2D, target_);
+  glBindTexture(GL_TEXTURE_2D, image);
   glBindSampler(kCloudUnit, linear_sampler_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
 }

@@ -23,6 +23,7 @@
 #include "core/clouds/impostor_policy.h"
 #include "gl/cloud_layer_renderer.h"
 #include "gl/cloud_octave_uniforms.h"
+#include "gl/cloud_temporal.h"
 #include "gl/impostor_atlas.h"
 #include "gl/pass_uniforms.h"
 
@@ -49,6 +50,9 @@ struct CloudFrameInputs {
   const clouds::CloudClipmap* clipmap = nullptr;
   uint64_t clipmap_version = 0;       // changes with the clipmap's content (re-upload)
   int layer_max_steps = 192;          // the layer march's step budget per pixel
+  bool temporal = false;              // layer: trace a quarter of the pixels, reproject the rest (gl/cloud_temporal)
+  uint64_t view_key = 0;              // temporal: whose history
+  clouds::TemporalView temporal_view; // temporal: this frame of the view
   clouds::ImpostorSettings impostors;
 };
 
@@ -79,7 +83,9 @@ class CloudRenderer {
 
   size_t atlas_bytes() const { return atlas_bytes_; }
   size_t impostor_bytes() const { return impostors_.bytes(); }
-  size_t layer_bytes() const { return layer_.texture_bytes(); }
+  size_t layer_bytes() const { return layer_.texture_bytes() + temporal_.bytes(); }
+  // The view is gone: its cloud history is freed on the next draw. [no-gl]
+  void retire_view(uint64_t view_key) { temporal_.retire(view_key); }
   const CloudDrawStats& last_stats() const { return stats_; }
 
  private:
@@ -122,7 +128,8 @@ class CloudRenderer {
   bool begin_image(int w, int h, std::string* error);
   bool use_pass_program(Renderer& renderer, const PassInputs& in, GLuint program, const PassUniforms& pass,
                         GLint divisor, GLint full_viewport, int w, int h, int d, std::string* error);
-  void composite(const PassInputs& in, GlStateGuard& guard, int w, int h, int d);
+  // Puts `image` (the low-resolution w x h image) over the host's frame.
+  void composite(const PassInputs& in, GlStateGuard& guard, GLuint image, int w, int h, int d);
   bool ensure_target(int width, int height, std::string* error);
   void set_cloud_uniforms(const InstanceUniforms& u, const CloudFrameInputs& frame) const;
   // Appends instance `index`'s kVec4PerInstance vec4s (cloud_instance.glsl).
@@ -145,6 +152,7 @@ class CloudRenderer {
   size_t atlas_bytes_ = 0;
   ImpostorAtlas impostors_;
   CloudLayerRenderer layer_;
+  CloudTemporal temporal_;
   GLuint shadow_ = 0;
   uint64_t shadow_field_version_ = 0, shadow_version_ = 0;
   std::vector<Impostor> impostor_of_;     // per instance

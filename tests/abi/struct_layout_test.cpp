@@ -31,7 +31,7 @@ TEST(StructLayout, Version1SizesAreFrozen) {
   EXPECT_EQ(sizeof(AtmoFrameState), V1Size<AtmoFrameState>::value);
   // AtmoViewState grew at its end (sky_method); 408-byte hosts read it as AUTO.
   EXPECT_EQ(V1Size<AtmoViewState>::value, 408u);
-  EXPECT_EQ(sizeof(AtmoViewState), 456u);  // 440 before depth_origin and aerial_range_m
+  EXPECT_EQ(sizeof(AtmoViewState), 464u);  // 440 before depth_origin and aerial_range_m, 456 before cloud_quality
   EXPECT_EQ(sizeof(AtmoPassInfo), V1Size<AtmoPassInfo>::value);
   // AtmoLighting grew at its end (sky light); hosts with the 104-byte layout keep working.
   EXPECT_EQ(V1Size<AtmoLighting>::value, 104u);
@@ -65,5 +65,6 @@ TEST(StructLayout, Version1OffsetsAreFrozen) {
   EXPECT_EQ(offsetof(AtmoLighting, moon_phase_angle_rad), 488u);
   EXPECT_EQ(offsetof(AtmoViewState, sky_view_table_size), 416u);
   EXPECT_EQ(offsetof(AtmoViewState, depth_origin), 440u);
+  EXPECT_EQ(offsetof(AtmoViewState, cloud_quality), 456u);
   EXPECT_EQ(offsetof(AtmoViewState, aerial_range_m), 448u);
 }

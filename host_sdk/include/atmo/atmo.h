@@ -318,6 +318,23 @@ typedef enum AtmoSkyMethod {
   ATMO_SKY_METHOD_COUNT = 4
 } AtmoSkyMethod;
 
+/* The clouds' cost knob of a view (AtmoViewState.cloud_quality): what the
+   layer march (ATMO_CLOUD_DRAW_LAYER) spends on this view. Each level is an
+   image resolution, a step budget per pixel and whether a frame traces a
+   quarter of the image's pixels and reprojects the others from this view's
+   last frame (temporal: a view's image then depends on its own earlier
+   frames, never on another view's). docs/CLOUDS.md charts each level's error
+   and cost. The impostor and direct modes take AtmoCloudsState's
+   march_resolution_divisor and ignore this. */
+typedef enum AtmoCloudQuality {
+  ATMO_CLOUD_QUALITY_DEFAULT = 0, /* ATMO_CLOUD_QUALITY_MEDIUM */
+  ATMO_CLOUD_QUALITY_LOW = 1,     /* 1/4 resolution, 96 steps, temporal */
+  ATMO_CLOUD_QUALITY_MEDIUM = 2,  /* 1/2 resolution, 128 steps, temporal */
+  ATMO_CLOUD_QUALITY_HIGH = 3,    /* 1/2 resolution, 192 steps, every pixel every frame */
+  ATMO_CLOUD_QUALITY_FULL = 4,    /* full resolution, 384 steps, every pixel every frame */
+  ATMO_CLOUD_QUALITY_COUNT = 5
+} AtmoCloudQuality;
+
 /* One channel's camera and render target for this frame. Matrices are
    column-major 4x4 doubles (OpenGL convention, element [col*4 + row]). */
 typedef struct AtmoViewState {
@@ -387,6 +404,10 @@ typedef struct AtmoViewState {
      conventions and an infinite far plane draw one image). Else [100, 1e7].
      docs/SKY.md. */
   double aerial_range_m;
+
+  /* --- Added after version 3 (a 456-byte host struct reads these as 0) --- */
+  uint32_t cloud_quality;       /* AtmoCloudQuality; 0 = ATMO_CLOUD_QUALITY_DEFAULT */
+  uint32_t reserved5;           /* 0 */
 } AtmoViewState;
 
 /* ------------------------------------------------------------------------ */

@@ -52,12 +52,29 @@ AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& 
     frame.layer = true;
     frame.clipmap = &c.clipmap;
     frame.clipmap_version = c.clipmap_version;
-    frame.layer_max_steps = c.settings.layer_max_steps;
+    const clouds::CloudViewCost cost = layer_view_cost(c.settings, view->state.cloud_quality);
+    frame.layer_max_steps = cost.max_steps;
+    frame.temporal = cost.temporal;
+    frame.view_key = view->serial;
+    clouds::TemporalView& tv = frame.temporal_view;
+    tv.eye_in_clouds_m = frame.eye_in_clouds_m;
+    tv.eye_enu_from_clouds = frame.eye_enu_from_clouds;
+    tv.view_from_enu = glm::transpose(view->eye.enu_from_view);
+    tv.clip_from_view = glm::inverse(view->eye.view_from_clip);
+    tv.width = (inputs.viewport[2] + cost.divisor - 1) / cost.divisor;
+    tv.height = (inputs.viewport[3] + cost.divisor - 1) / cost.divisor;
+    tv.host_frame_number = ctx->frame_number;
+    // What this view's march samples: the field and its light (version) and the
+    // clipmap's cell (views in other cells rebuild it between this view's frames).
+    tv.content_version = c.clipmap_built_for * 0x9E3779B97F4A7C15ull ^
+                         (static_cast<uint64_t>(static_cast<uint32_t>(c.clipmap.cell.x)) << 32 |
+                          static_cast<uint32_t>(c.clipmap.cell.y));
   }
   frame.impostors = c.settings.impostors;
   frame.octaves = clouds::default_octaves();
   frame.octaves.count = c.settings.octaves;
-  frame.divisor = c.settings.march_divisor;
+  frame.divisor = c.settings.layer ? layer_view_cost(c.settings, view->state.cloud_quality).divisor
+                                   : c.settings.march_divisor;
   frame.step_voxels = c.settings.march_step_voxels;
   bool drawn = false;
   std::string error;

@@ -163,6 +163,7 @@ AtmoResult create_view(AtmoContext context, const AtmoViewCreateInfo* info_in, A
     auto* view = new (memory) AtmoView_T();
     view->context = ctx;
     view->channel_id = info.channel_id;
+    view->serial = ++ctx->views_created;
     try {
       ctx->views.push_back(view);
     } catch (...) {
@@ -187,6 +188,11 @@ void destroy_view(AtmoView view) {
       ctx->views.erase(ctx->views.begin() + static_cast<long>(i));
       break;
     }
+  }
+  try {
+    ctx->cloud_renderer.retire_view(view->serial);  // its history is freed by the next clouds pass
+  } catch (...) {
+    // Out of memory: the history stays until gl_shutdown frees every GL object.
   }
   destroy_view_object(view);
 }
