@@ -179,8 +179,10 @@ int main(int argc, char** argv) {
         std::printf("%-48s %5.0f %7zu %9.0f %9.0f %9.1f %8.1f %6.2f %7.1f %7.1f %7.1f\n", c.name.c_str(), sun,
                     cc.field.instances.size(), set_ms, first_ms, cm, pm, cm / pm, field_mib, map_mib, gl_mib);
         std::fflush(stdout);
+        std::string csv_name = c.name;  // the CSV is not quoted: ';' for the name's commas
+        std::replace(csv_name.begin(), csv_name.end(), ',', ';');
         if (csv)
-          std::fprintf(csv, "%dx%d,%s,%.0f,%zu,%.1f,%.1f,%.2f,%.2f,%.3f,%.2f,%.2f,%.2f,%.1f\n", w, h, c.name.c_str(), sun,
+          std::fprintf(csv, "%dx%d,%s,%.0f,%zu,%.1f,%.1f,%.2f,%.2f,%.3f,%.2f,%.2f,%.2f,%.1f\n", w, h, csv_name.c_str(), sun,
                        cc.field.instances.size(), set_ms, first_ms, cm, pm, cm / pm, field_mib, map_mib, gl_mib,
                        cc.clipmap_ms);
       }

@@ -83,6 +83,10 @@ int main(int argc, char** argv) {
                              sample::cloud_draw_mode_name(ATMO_CLOUD_DRAW_DIRECT),
                              sample::cloud_draw_mode_name(ATMO_CLOUD_DRAW_LAYER)}))
       ->capture_default_str();
+  std::string quality = sample::cloud_quality_name(settings.clouds.quality);
+  app.add_option("--cloud-quality", quality, "The layer march's cost knob (AtmoViewState.cloud_quality)")
+      ->check(CLI::IsMember({"default", "low", "medium", "high", "full"}))
+      ->capture_default_str();
   app.add_option("--cloud-divisor", settings.clouds.march_resolution_divisor,
                  "The cloud march renders at 1/N of the viewport per axis (march_resolution_divisor)")
       ->capture_default_str();
@@ -121,6 +125,8 @@ int main(int argc, char** argv) {
   }
   for (uint32_t m = 0; m < ATMO_CLOUD_DRAW_MODE_COUNT; ++m)
     if (draw_mode == sample::cloud_draw_mode_name(m)) settings.clouds.draw_mode = static_cast<AtmoCloudDrawMode>(m);
+  for (uint32_t q = 0; q < ATMO_CLOUD_QUALITY_COUNT; ++q)
+    if (quality == sample::cloud_quality_name(q)) settings.clouds.quality = static_cast<AtmoCloudQuality>(q);
   settings.pose = sample::approach_path(0.0);
 
   return options.frames > 0 ? sample::run_headless(options, settings) : sample::run_window(options, settings);

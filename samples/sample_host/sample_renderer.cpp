@@ -300,6 +300,7 @@ FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t
   setup.depth_texture = depth_;
   setup.output_encoding = ATMO_OUTPUT_LINEAR_HDR;
   setup.exposure_scale = hs::exposure_scale_from_ev100(settings.ev100);
+  setup.cloud_quality = settings.clouds.quality;
 
   // World and view state first: the terrain is lit by the plugin's sun.
   bool plugin_ready = true;

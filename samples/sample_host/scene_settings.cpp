@@ -51,6 +51,17 @@ const char* cloud_draw_mode_name(uint32_t mode) {
   return nullptr;
 }
 
+const char* cloud_quality_name(uint32_t quality) {
+  switch (quality) {
+    case ATMO_CLOUD_QUALITY_DEFAULT: return "default";
+    case ATMO_CLOUD_QUALITY_LOW: return "low";
+    case ATMO_CLOUD_QUALITY_MEDIUM: return "medium";
+    case ATMO_CLOUD_QUALITY_HIGH: return "high";
+    case ATMO_CLOUD_QUALITY_FULL: return "full";
+  }
+  return nullptr;
+}
+
 namespace {
 
 std::vector<std::string> split(const std::string& text, char separator) {

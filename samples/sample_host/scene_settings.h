@@ -36,12 +36,15 @@ struct CloudSettings {
   std::vector<CloudLayerSettings> layers;
   AtmoCloudDrawMode draw_mode = ATMO_CLOUD_DRAW_IMPOSTORS;
   uint32_t march_resolution_divisor = 2;  // [1, 8]
+  AtmoCloudQuality quality = ATMO_CLOUD_QUALITY_DEFAULT;  // the view's cloud_quality (the layer march)
 };
 
 // "cumulus", "stratus", "overcast", "cirrus", "vdb"; nullptr outside the enum.
 const char* cloud_type_name(AtmoCloudLayerType type);
-// "impostors", "direct", else nullptr (a mode this host has no name for).
+// "impostors", "direct", "layer", else nullptr (a mode this host has no name for).
 const char* cloud_draw_mode_name(uint32_t mode);
+// "default", "low", "medium", "high", "full", else nullptr.
+const char* cloud_quality_name(uint32_t quality);
 
 // --cloud TYPE:OKTAS:BASE_M:TOP_M[:AREA_KM[:SEED]] (TYPE one of the procedural
 // names above) and --vdb FILE[:GRID]. False with *error saying which part of

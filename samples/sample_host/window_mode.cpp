@@ -212,6 +212,13 @@ void draw_weather(PanelState* panel, CloudSettings* clouds) {
       edited = true;
     }
   }
+  ImGui::TextUnformatted("Layer quality");
+  for (uint32_t q = 0; q < ATMO_CLOUD_QUALITY_COUNT; ++q) {
+    ImGui::SameLine();
+    // The view's knob: takes effect on the next frame, no Apply needed.
+    if (ImGui::RadioButton(cloud_quality_name(q), clouds->quality == q))
+      clouds->quality = static_cast<AtmoCloudQuality>(q);
+  }
   int divisor = static_cast<int>(clouds->march_resolution_divisor);
   if (ImGui::SliderInt("March divisor", &divisor, 1, 8)) {
     clouds->march_resolution_divisor = static_cast<uint32_t>(divisor);

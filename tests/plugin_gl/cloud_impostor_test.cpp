@@ -393,7 +393,7 @@ TEST(CloudLayerTemporal, ConvergesAtRestAndSurvivesACut) {
               "the first frame after a 2 km cut: %.2f dB\n",
               converged, to_full, after_cut);
   EXPECT_GE(converged, 35.0);
-  EXPECT_GE(to_full, 45.0);  // the same pixels but for the step budget (128 against 192)
+  EXPECT_GE(to_full, 45.0);  // the same pixels but for the step budget (64 against 192)
   EXPECT_GE(after_cut, 30.0);
 }
 

@@ -244,8 +244,9 @@ typedef struct AtmoAtmosphereState {
    need TT, and UT1 = UTC + dut1_s for the Earth's rotation. */
 typedef struct AtmoFrameState {
   AtmoStructHeader header;      /* ATMO_TYPE_FRAME_STATE */
-  uint64_t host_frame_number;   /* named in the passes' log lines; no cache or result depends on it
-                                   (they follow the state) */
+  uint64_t host_frame_number;   /* named in the passes' log lines; the clouds' temporal history
+                                   (AtmoViewState.cloud_quality) is dropped when it is neither the last
+                                   frame's nor the next; nothing else depends on it */
   double utc_posix_s;           /* simulation time, see above. Valid range [-62 135 596 800, 253 402 300 799] s:
                                    0001-01-01T00:00:00Z to 9999-12-31T23:59:59Z (docs/EPHEMERIS.md: accuracy
                                    degrades outside 1900-2100) */
@@ -329,7 +330,7 @@ typedef enum AtmoSkyMethod {
 typedef enum AtmoCloudQuality {
   ATMO_CLOUD_QUALITY_DEFAULT = 0, /* ATMO_CLOUD_QUALITY_MEDIUM */
   ATMO_CLOUD_QUALITY_LOW = 1,     /* 1/4 resolution, 96 steps, temporal */
-  ATMO_CLOUD_QUALITY_MEDIUM = 2,  /* 1/2 resolution, 128 steps, temporal */
+  ATMO_CLOUD_QUALITY_MEDIUM = 2,  /* 1/2 resolution, 64 steps, temporal */
   ATMO_CLOUD_QUALITY_HIGH = 3,    /* 1/2 resolution, 192 steps, every pixel every frame */
   ATMO_CLOUD_QUALITY_FULL = 4,    /* full resolution, 384 steps, every pixel every frame */
   ATMO_CLOUD_QUALITY_COUNT = 5

@@ -38,14 +38,12 @@ constexpr double kTemporalCutAngleRad = 30.0 * 3.14159265358979323846 / 180.0;
 // What the temporal pass needs of a view's frame.
 struct TemporalView {
   glm::dvec3 eye_in_clouds_m{0.0};
-  glm::dmat3 eye_enu_from_clouds{
-      1.0};                      // rotation: the clouds' ENU axes to the eye's
-  glm::dmat3 view_from_enu{1.0}; // rotation: the eye's ENU axes to the view's
+  glm::dmat3 eye_enu_from_clouds{1.0};  // rotation: the clouds' ENU axes to the eye's
+  glm::dmat3 view_from_enu{1.0};        // rotation: the eye's ENU axes to the view's
   glm::dmat4 clip_from_view{1.0};
-  int width = 0, height = 0; // the clouds' image, pixels
+  int width = 0, height = 0;  // the clouds' image, pixels
   uint64_t host_frame_number = 0;
-  uint64_t content_version =
-      0; // what the march samples (the clipmap, the light): a change resets
+  uint64_t content_version = 0;  // what the march samples (the clipmap, the light): a change resets
 };
 
 // Whether `last` (the view's previous clouds frame) can serve `now`: the same
@@ -53,16 +51,15 @@ struct TemporalView {
 // frames behind in the reprojected pixels), a host frame number equal to the
 // last one or the next (a host that does not count frames leaves it
 // unchanged), and no cut.
-bool temporal_history_usable(const TemporalView &last, const TemporalView &now);
+bool temporal_history_usable(const TemporalView& last, const TemporalView& now);
 
 // clip_last = M * (x, 1) for x a point relative to now's eye, in now's ENU
 // axes.
-glm::dmat4 last_clip_from_eye_enu(const TemporalView &last,
-                                  const TemporalView &now);
+glm::dmat4 last_clip_from_eye_enu(const TemporalView& last, const TemporalView& now);
 
 // The pixel of each 2x2 block that pass `k` of a view's history traces:
 // (0,0), (1,1), (1,0), (0,1), so every pixel is traced once in 4 passes and
 // no image pixel is more than 3 reprojections away from its own trace.
 glm::ivec2 temporal_trace_offset(uint64_t k);
 
-} // namespace atmo::clouds
+}  // namespace atmo::clouds

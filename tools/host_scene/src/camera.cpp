@@ -151,6 +151,7 @@ AtmoViewState make_view_state(const ViewSetup& setup) {
   }
   s.output_encoding = static_cast<uint32_t>(setup.output_encoding);
   s.exposure_scale = setup.exposure_scale;
+  s.cloud_quality = setup.cloud_quality;
   return s;
 }
 

@@ -75,6 +75,7 @@ struct ViewSetup {
   uint32_t depth_texture = 0;              // host depth texture, 0: none
   AtmoOutputEncoding output_encoding = ATMO_OUTPUT_LINEAR_HDR;
   double exposure_scale = 1.0 / (1.2 * 32768.0);  // EV100 = 15
+  AtmoCloudQuality cloud_quality = ATMO_CLOUD_QUALITY_DEFAULT;  // the layer march's cost knob
 };
 
 double aspect(const ViewSetup& setup);
@@ -84,7 +85,7 @@ Geodetic eye_geodetic(const ViewSetup& setup);
 
 // Fills an AtmoViewState (header included): geodetic eye, ENU world frame with
 // its origin, view and projection matrices, viewport, depth texture and
-// convention (far and C for logarithmic), output encoding, exposure.
+// convention (far and C for logarithmic), output encoding, exposure, cloud quality.
 AtmoViewState make_view_state(const ViewSetup& setup);
 
 // Photographic exposure: cd/m^2 -> output units, 1 / (1.2 * 2^EV100).
