@@ -257,6 +257,20 @@ class Host {
   AtmoView view_ = nullptr;
 };
 
+// A procedural layer: its square `area_m` a side centred `north_m` north of the clouds' origin.
+inline AtmoCloudLayer make_layer(uint32_t type, uint32_t oktas, double base_m, double top_m, double area_m,
+                                 double north_m, uint32_t seed) {
+  AtmoCloudLayer l = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
+  l.type = type;
+  l.coverage_oktas = oktas;
+  l.base_m = base_m;
+  l.top_m = top_m;
+  l.area_size_m = area_m;
+  l.area_centre_enu_m[1] = north_m;
+  l.seed = seed;
+  return l;
+}
+
 inline AtmoCloudsState clouds_state(const AtmoCloudLayer* layer, uint32_t draw_mode) {
   AtmoCloudsState s = atmo::make<AtmoCloudsState>(ATMO_TYPE_CLOUDS_STATE);
   s.origin_geodetic[0] = kOriginLatDeg;

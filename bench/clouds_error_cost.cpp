@@ -425,20 +425,9 @@ class Study {
     };
     std::vector<View> views;
     views.push_back({"4-okta scene", layer_, scene_eye});
-    AtmoCloudLayer cu = layer_;
-    cu.coverage_oktas = 8;
-    cu.base_m = 1000.0;
-    cu.top_m = 2800.0;
-    cu.area_size_m = 10000.0;
-    cu.area_centre_enu_m[1] = 5000.0;
-    views.push_back({"8 oktas", cu, Camera{0.0, 200.0, 1900.0, 3.0}});
-    AtmoCloudLayer deck = layer_;
-    deck.type = ATMO_CLOUD_OVERCAST;
-    deck.coverage_oktas = 8;
-    deck.base_m = 600.0;
-    deck.top_m = 1100.0;
-    deck.area_size_m = 12000.0;
-    deck.area_centre_enu_m[1] = 0.0;
+    views.push_back({"8 oktas", cloud_bench::make_layer(ATMO_CLOUD_CUMULUS, 8, 1000.0, 2800.0, 10000.0, 5000.0, 11),
+                     Camera{0.0, 200.0, 1900.0, 3.0}});
+    const AtmoCloudLayer deck = cloud_bench::make_layer(ATMO_CLOUD_OVERCAST, 8, 600.0, 1100.0, 12000.0, 0.0, 11);
     views.push_back({"inside a deck", deck, Camera{0.0, 0.0, 850.0, 5.0}});
     struct Level {
       const char* name;
