@@ -381,8 +381,13 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
     stats_.in_view = static_cast<int>(instances.size());
     set_draw_state();  // blending off: the march writes every pixel of the image
     CloudTemporal::Plan plan;
+    clouds::TemporalView now = frame.temporal_view;  // with this draw's eye and image
+    now.eye_in_clouds_m = frame.eye_in_clouds_m;
+    now.eye_enu_from_clouds = frame.eye_enu_from_clouds;
+    now.width = w;
+    now.height = h;
     if (frame.temporal) {
-      plan = temporal_.plan(frame.view_key, frame.temporal_view);
+      plan = temporal_.plan(frame.view_key, now);
       if (!temporal_.begin_trace(fbo_, plan, error)) return false;
     } else if (!begin_image(w, h, error)) {
       return false;
@@ -397,7 +402,7 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
                plan.offset, kCloudUnit, linear_sampler_);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     GLuint image = target_;
-    if (frame.temporal && !temporal_.resolve(fbo_, plan, frame.temporal_view, in.view_from_clip, in.enu_from_view,
+    if (frame.temporal && !temporal_.resolve(fbo_, plan, now, in.view_from_clip, in.enu_from_view,
                                              in.depth_convention, kCloudUnit, linear_sampler_, &image, error))
       return false;
     composite(in, guard, image, w, h, d);

@@ -52,7 +52,7 @@ struct CloudFrameInputs {
   int layer_max_steps = 192;          // the layer march's step budget per pixel
   bool temporal = false;              // layer: trace a quarter of the pixels, reproject the rest (gl/cloud_temporal)
   uint64_t view_key = 0;              // temporal: whose history
-  clouds::TemporalView temporal_view; // temporal: this frame of the view
+  clouds::TemporalView temporal_view; // temporal: the view's camera (the renderer adds the eye and image)
   clouds::ImpostorSettings impostors;
 };
 

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/gtc/type_ptr.hpp>
+
 #include "abi/cloud_relight.h"
 #include "abi/entry/call.h"
 #include "abi/entry/entry_points.h"
@@ -43,6 +45,7 @@ AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& 
   frame.eye_enu_from_clouds = glm::transpose(cloud_enu_from_eye_enu(c, view->eye.ecef_from_enu));
   frame.field_version = c.field_version;
   frame.direct_only = c.settings.direct_only;
+  const clouds::CloudViewCost cost = layer_view_cost(c.settings, view->state.cloud_quality);
   if (c.settings.layer) {
     if (update_clipmap(&c, frame.eye_in_clouds_m))
       ctx->services.log(ATMO_LOG_DEBUG, pass_log_prefix(ctx, view) + "clouds: clipmap of " +
@@ -52,17 +55,12 @@ AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& 
     frame.layer = true;
     frame.clipmap = &c.clipmap;
     frame.clipmap_version = c.clipmap_version;
-    const clouds::CloudViewCost cost = layer_view_cost(c.settings, view->state.cloud_quality);
     frame.layer_max_steps = cost.max_steps;
     frame.temporal = cost.temporal;
     frame.view_key = view->serial;
     clouds::TemporalView& tv = frame.temporal_view;
-    tv.eye_in_clouds_m = frame.eye_in_clouds_m;
-    tv.eye_enu_from_clouds = frame.eye_enu_from_clouds;
     tv.view_from_enu = glm::transpose(view->eye.enu_from_view);
-    tv.clip_from_view = glm::inverse(view->eye.view_from_clip);
-    tv.width = (inputs.viewport[2] + cost.divisor - 1) / cost.divisor;
-    tv.height = (inputs.viewport[3] + cost.divisor - 1) / cost.divisor;
+    tv.clip_from_view = glm::make_mat4(view->state.clip_from_view);  // the host's (the eye frame holds its inverse)
     tv.host_frame_number = ctx->frame_number;
     // What this view's march samples: the field and its light (version) and the
     // clipmap's cell (views in other cells rebuild it between this view's frames).
@@ -73,8 +71,7 @@ AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& 
   frame.impostors = c.settings.impostors;
   frame.octaves = clouds::default_octaves();
   frame.octaves.count = c.settings.octaves;
-  frame.divisor = c.settings.layer ? layer_view_cost(c.settings, view->state.cloud_quality).divisor
-                                   : c.settings.march_divisor;
+  frame.divisor = c.settings.layer ? cost.divisor : c.settings.march_divisor;
   frame.step_voxels = c.settings.march_step_voxels;
   bool drawn = false;
   std::string error;
