@@ -271,8 +271,11 @@ inline AtmoCloudLayer make_layer(uint32_t type, uint32_t oktas, double base_m, d
   return l;
 }
 
-inline AtmoCloudsState clouds_state(const AtmoCloudLayer* layer, uint32_t draw_mode) {
+// setup: AtmoCloudSetup (the accuracy benches wait: each frame a function of its inputs).
+inline AtmoCloudsState clouds_state(const AtmoCloudLayer* layer, uint32_t draw_mode,
+                                    uint32_t setup = ATMO_CLOUD_SETUP_WAIT) {
   AtmoCloudsState s = atmo::make<AtmoCloudsState>(ATMO_TYPE_CLOUDS_STATE);
+  s.setup = setup;
   s.origin_geodetic[0] = kOriginLatDeg;
   s.origin_geodetic[1] = kOriginLonDeg;
   s.layers = layer;

@@ -18,6 +18,9 @@ namespace atmo::abi {
 
 namespace {
 
+// The draft's hemispherical depths: half the directions (a draft is blurred anyway).
+constexpr int kDraftAmbientDirections = clouds::kAmbientDirections / 2;
+
 std::string layer_name(uint32_t i) { return "AtmoCloudsState.layers[" + std::to_string(i) + "]"; }
 
 bool finite_all(const double* v, int n) {
@@ -108,6 +111,9 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
   if (s.draw_mode >= ATMO_CLOUD_DRAW_MODE_COUNT)
     return bad(ATMO_ERROR_INVALID_ARGUMENT, "AtmoCloudsState.draw_mode = " + std::to_string(s.draw_mode) +
                                                 " is not an AtmoCloudDrawMode");
+  if (s.setup >= ATMO_CLOUD_SETUP_COUNT)
+    return bad(ATMO_ERROR_INVALID_ARGUMENT,
+               "AtmoCloudsState.setup = " + std::to_string(s.setup) + " is not an AtmoCloudSetup");
   if ((s.impostor_texels != 0 && (s.impostor_texels < 16 || s.impostor_texels > 512)) ||
       (s.impostor_angle_threshold_deg != 0.0 &&
        (s.impostor_angle_threshold_deg < 0.05 || s.impostor_angle_threshold_deg > 10.0)) ||
@@ -150,6 +156,7 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
   if (s.light_update_threshold_deg > 0.0) c.settings.light_threshold_rad = s.light_update_threshold_deg * M_PI / 180.0;
   c.settings.direct_only = s.draw_mode == ATMO_CLOUD_DRAW_DIRECT;
   c.settings.layer = s.draw_mode == ATMO_CLOUD_DRAW_LAYER;
+  c.settings.wait = s.setup == ATMO_CLOUD_SETUP_WAIT;
   clouds::ImpostorSettings& imp = c.settings.impostors;
   if (s.impostor_texels) imp.tile_texels = static_cast<int>(s.impostor_texels);
   if (s.impostor_angle_threshold_deg > 0.0) imp.angle_threshold_rad = s.impostor_angle_threshold_deg * M_PI / 180.0;
@@ -217,10 +224,14 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
     c.highest_top_m = std::max(c.highest_top_m, i.origin_enu_m.z + double(v.density.nz) * v.voxel_size_m);
   }
   c.ray_index = clouds::build_cloud_ray_index(c.field);
-  c.depths.resize(c.field.prototypes.size());
+  const clouds::FieldNeighbours neighbours = clouds::field_neighbours(c.field, c.ray_index);
+  c.sole_instance = neighbours.sole;
+  c.sides.resize(c.field.prototypes.size());
   for (size_t p = 0; p < c.field.prototypes.size(); ++p)
-    clouds::compute_ambient_depths(c.field.prototypes[p], &c.depths[p],
-                                   clouds::continuing_sides(c.field, static_cast<int>(p)));
+    c.sides[p] = clouds::continuing_sides(c.field, static_cast<int>(p), &neighbours);
+  // The full lighting waits for the first pass (and, streamed, for the
+  // worker); the streamed layer march's draft gets its ambient depths now.
+  if (c.settings.layer && !c.settings.wait) prepare_draft(&c);
   c.version = out->version + 1;
   c.field_version = c.version;
   *out = std::move(c);
@@ -255,42 +266,111 @@ clouds::CloudLight cloud_light(AtmoContext_T* ctx, AtmoView_T* view, const core:
   return light;
 }
 
+namespace {
+
+// Takes a finished relight's grids (and its shadow map and mips); true when it did.
+bool take_relight(ContextClouds* c) {
+  if (!c->relight.job || !c->relight.job->done()) return false;
+  CloudRelightJob& job = *c->relight.job;
+  job.wait();
+  c->depths = job.take();
+  c->lit_direction_enu = job.direction();
+  c->relight_ms = job.elapsed_ms();
+  c->full_lit = true;
+  ++c->version;
+  if (job.has_shadow()) {
+    c->shadow = job.take_shadow();
+    ++c->shadow_version;
+  }
+  if (job.has_mips()) {
+    c->mips = job.take_mips();
+    c->clipmap_spec = c->settings.clipmap;
+    c->clipmap_geometry = clouds::clipmap_geometry(c->field, c->clipmap_spec);
+    c->mips_version = c->version;
+  }
+  c->relight.reset();
+  return true;
+}
+
+void start_relight(ContextClouds* c, const glm::dvec3& light_dir, bool first) {
+  RelightRequest r;
+  r.light_direction_enu = light_dir;
+  // Streamed, the sky passes want the map from the first frame (the draft's meanwhile).
+  r.with_shadow = c->shadow_wanted || (first && !c->draft.prototypes.empty());
+  r.with_ambient = first;
+  if (first) r.sides = c->sides;
+  r.with_mips = c->settings.layer;
+  if (c->sole_instance.size() == c->field.prototypes.size()) r.neighbours = {c->sole_instance, &c->ray_index};
+  c->relight.job = std::make_unique<CloudRelightJob>(&c->field, first ? std::vector<clouds::LightDepths>{} : c->depths,
+                                                     std::move(r));
+  if (c->settings.wait) {
+    c->relight.job->wait();
+    take_relight(c);
+  }
+}
+
+// The draft's clipmap has half as many voxels across (twice the voxel: the same reach).
+clouds::ClipmapSpec draft_spec(const clouds::ClipmapSpec& full) {
+  clouds::ClipmapSpec s = full;
+  s.size = std::max(8, full.size / 4 * 2);
+  if (s.base_voxel_m > 0.0f) s.base_voxel_m *= 2.0f;
+  return s;
+}
+
+}  // namespace
+
+void prepare_draft(ContextClouds* c) {
+  c->draft = {};
+  c->draft_depths.clear();
+  if (c->empty()) return;
+  c->draft.instances = c->field.instances;
+  c->draft.prototypes.reserve(c->field.prototypes.size());
+  c->draft_depths.resize(c->field.prototypes.size());
+  for (size_t p = 0; p < c->field.prototypes.size(); ++p) {
+    c->draft.prototypes.push_back(clouds::half_resolution(c->field.prototypes[p]));
+    clouds::compute_ambient_depths(c->draft.prototypes[p], &c->draft_depths[p],
+                                   p < c->sides.size() ? c->sides[p] : clouds::ContinuingSides{},
+                                   kDraftAmbientDirections);
+  }
+}
+
 bool relight_clouds(ContextClouds* c, const glm::dvec3& light_dir) {
   if (c->empty()) return false;
-  bool changed = false;
-  if (c->relight.job && c->relight.job->done()) {
-    c->relight.job->wait();
-    c->depths = c->relight.job->take();
-    c->lit_direction_enu = c->relight.job->direction();
-    c->relight_ms = c->relight.job->elapsed_ms();
-    if (c->relight.job->has_shadow()) {
-      c->shadow = c->relight.job->take_shadow();
-      ++c->shadow_version;
-    }
-    c->relight.job.reset();
-    ++c->version;
-    changed = true;
-  }
+  bool changed = take_relight(c);
   if (glm::length(c->lit_direction_enu) < 0.5) {  // never lit: nothing to draw until it is
     const auto t0 = std::chrono::steady_clock::now();
-    relight_all(c->field, light_dir, &c->depths);
+    if (!c->draft.prototypes.empty()) {
+      // Streamed: the draft now (its ambient depths came with set_clouds), the field on the worker.
+      for (size_t p = 0; p < c->draft.prototypes.size(); ++p)
+        clouds::sweep_light_depths(c->draft.prototypes[p], light_dir, &c->draft_depths[p]);
+      c->lit_direction_enu = light_dir;
+      ++c->version;
+      start_relight(c, light_dir, true);
+    } else {  // the other draw modes draw from the full grids: wait for them
+      start_relight(c, light_dir, true);
+      if (c->relight.job) c->relight.job->wait();
+      take_relight(c);
+    }
     c->relight_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    c->lit_direction_enu = light_dir;
-    ++c->version;
     return true;
   }
   if (c->relight.job) return changed;  // one at a time: the next starts after it
   if (glm::dot(c->lit_direction_enu, light_dir) >= std::cos(c->settings.light_threshold_rad)) return changed;
-  c->relight.job = std::make_unique<CloudRelightJob>(&c->field, c->depths, light_dir, c->shadow_wanted);
-  return changed;
+  start_relight(c, light_dir, false);
+  return changed || c->settings.wait;
 }
 
 bool update_cloud_shadow(ContextClouds* c) {
   c->shadow_wanted = true;
   if (c->empty() || glm::length(c->lit_direction_enu) < 0.5) return false;
   if (c->shadow.size > 0 && c->shadow.light_direction_enu == c->lit_direction_enu) return false;
-  if (c->relight.job && c->relight.job->has_shadow()) return false;  // the worker brings it
-  c->shadow = make_shadow_map(c->field, c->lit_direction_enu);
+  if (c->relight.job && c->relight.job->has_shadow()) {  // the worker brings it
+    if (c->shadow.size > 0 || c->full_lit) return false;
+    c->shadow = make_shadow_map(c->draft, c->lit_direction_enu, 64, 3.0f);  // meanwhile the draft's
+    ++c->shadow_version;
+    return true;
+  }
+  c->shadow = make_shadow_map(c->full_lit ? c->field : c->draft, c->lit_direction_enu);
   ++c->shadow_version;
   return true;
 }
@@ -298,18 +378,55 @@ bool update_cloud_shadow(ContextClouds* c) {
 bool update_clipmap(ContextClouds* c, const glm::dvec3& eye) {
   if (c->empty() || glm::length(c->lit_direction_enu) < 0.5) return false;
   const auto t0 = std::chrono::steady_clock::now();
-  if (c->mips_version != c->version) {
-    c->mips = clouds::build_prototype_mips(c->field, c->depths, c->lit_direction_enu);
-    c->clipmap_geometry = clouds::clipmap_geometry(c->field, c->settings.clipmap);
+  const clouds::CloudField& source = c->full_lit ? c->field : c->draft;
+  if (c->mips_version != c->version) {  // the light grids changed and no worker made their mips
+    c->clipmap_spec = c->full_lit ? c->settings.clipmap : draft_spec(c->settings.clipmap);
+    c->mips = std::make_shared<const std::vector<clouds::PrototypeMips>>(
+        clouds::build_prototype_mips(source, c->full_lit ? c->depths : c->draft_depths, c->lit_direction_enu));
+    c->clipmap_geometry = clouds::clipmap_geometry(source, c->clipmap_spec);
     c->mips_version = c->version;
   }
+  bool changed = false;
+  if (c->clipmap_job.job && (c->clipmap_job.job->done() || c->settings.wait || c->clipmap.levels.empty())) {
+    c->clipmap_job.job->wait();
+    c->clipmap = c->clipmap_job.job->take();
+    c->clipmap_built_for = c->clipmap_job.job->built_for();
+    c->clipmap_ms = c->clipmap_job.job->elapsed_ms();
+    c->clipmap_job.reset();
+    ++c->clipmap_version;
+    changed = true;
+  }
   const glm::ivec2 cell = clouds::clipmap_cell(c->clipmap_geometry, eye);
-  if (c->clipmap_built_for == c->version && !c->clipmap.levels.empty() && c->clipmap.cell == cell) return false;
-  c->clipmap = clouds::build_clipmap(c->field, c->mips, c->ray_index, c->settings.clipmap, c->clipmap_geometry, cell);
-  c->clipmap_built_for = c->version;
-  ++c->clipmap_version;
-  c->clipmap_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  return true;
+  if (c->clipmap_built_for == c->version && !c->clipmap.levels.empty() && c->clipmap.cell == cell) return changed;
+  if (c->clipmap_job.job) return changed;  // one at a time: the next starts after it
+  if (c->clipmap.levels.empty() || c->settings.wait) {  // nothing to draw yet, or asked to wait: now
+    c->clipmap = clouds::build_clipmap(source, *c->mips, c->ray_index, c->clipmap_spec, c->clipmap_geometry, cell);
+    c->clipmap_built_for = c->version;
+    ++c->clipmap_version;
+    c->clipmap_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return true;
+  }
+  ClipmapRequest r;  // the old clipmap is drawn until the worker's is ready
+  r.field = &source;
+  r.mips = c->mips;
+  r.index = &c->ray_index;
+  r.spec = c->clipmap_spec;
+  r.geometry = c->clipmap_geometry;
+  r.cell = cell;
+  r.built_for = c->version;
+  c->clipmap_job.job = std::make_unique<CloudClipmapJob>(std::move(r));
+  return changed;
+}
+
+bool ContextClouds::settled() const {
+  if (empty()) return true;
+  if (relight.job || clipmap_job.job || !full_lit) return false;
+  return !settings.layer || (clipmap_built_for == version && !clipmap.levels.empty());
+}
+
+void wait_for_cloud_jobs(ContextClouds* c) {
+  if (c->relight.job) c->relight.job->wait();
+  if (c->clipmap_job.job) c->clipmap_job.job->wait();
 }
 
 glm::dvec3 eye_in_cloud_frame(const ContextClouds& c, const glm::dvec3& eye_ecef_m) {

@@ -40,6 +40,7 @@ struct CloudSettings {
   double light_threshold_rad = 0.5 * M_PI / 180.0;
   bool direct_only = false;            // ATMO_CLOUD_DRAW_DIRECT: no impostors (the reference)
   bool layer = false;                  // ATMO_CLOUD_DRAW_LAYER: the layer march over the clipmap
+  bool wait = false;                   // ATMO_CLOUD_SETUP_WAIT: every worker result is waited for
   clouds::ClipmapSpec clipmap;
   // Benchmarks and tests only: the layer march's cost instead of the view's
   // cloud_quality (0, -1: the view's).
@@ -51,14 +52,25 @@ struct CloudSettings {
 // (validated), with the settings' overrides.
 clouds::CloudViewCost layer_view_cost(const CloudSettings& settings, uint32_t quality);
 
-// A context's clouds. Only the host's thread touches it (and the relight
-// worker, which reads the field; see CloudRelightSlot).
+// A context's clouds. Only the host's thread touches it (and the workers,
+// which read the field; see CloudJobSlot).
+//
+// In the layer march with ATMO_CLOUD_SETUP_STREAM the first lighting is of
+// `draft` (the field at half resolution: its ambient depths in set_clouds,
+// its light, mips and clipmap on the first pass) while a worker lights the
+// field in full; `full_lit` says which one the mips and clipmap are made of.
 struct ContextClouds {
-  CloudRelightSlot relight;                  // first: see CloudRelightSlot
+  CloudRelightSlot relight;                  // first: see CloudJobSlot
+  CloudClipmapSlot clipmap_job;
   clouds::CloudField field;
   clouds::CloudRayIndex ray_index;          // the field's instances in buckets (get_lighting's Sun and Moon)
-  std::vector<clouds::LightDepths> depths;  // per prototype; tau_light for lit_direction_enu
+  std::vector<clouds::ContinuingSides> sides;  // per prototype (core/clouds/field_light.h continuing_sides)
+  std::vector<int> sole_instance;           // per prototype (FieldNeighbours::sole, with ray_index)
+  std::vector<clouds::LightDepths> depths;  // per prototype; tau_light for lit_direction_enu once full_lit
   glm::dvec3 lit_direction_enu{0.0};        // the clouds' frame; zero: never lit
+  bool full_lit = false;                    // depths hold the field's whole lighting (else only the draft's)
+  clouds::CloudField draft;                 // the streamed layer march's first frames (else empty)
+  std::vector<clouds::LightDepths> draft_depths;
   uint64_t version = 0;                      // bumps when the field or its light grids change (GL re-uploads)
   uint64_t field_version = 0;                // bumps when the field changes (set_clouds): impostors start over
   core::Geodetic origin;                     // the clouds' ENU frame
@@ -74,8 +86,9 @@ struct ContextClouds {
   double relight_ms = 0.0;                   // the last relight, for logs and benchmarks
   // The layer march's clipmap (update_clipmap): the prototypes' mips per
   // light, the levels per (light, eye cell); instances found through ray_index.
-  std::vector<clouds::PrototypeMips> mips;
+  std::shared_ptr<const std::vector<clouds::PrototypeMips>> mips;  // shared with a clipmap job
   clouds::ClipmapGeometry clipmap_geometry;  // with the mips
+  clouds::ClipmapSpec clipmap_spec;          // with the mips: the draft's is half as many voxels across
   uint64_t mips_version = 0;                 // `version` the mips and the geometry were made for (0: none)
   clouds::CloudClipmap clipmap;
   uint64_t clipmap_version = 0;              // bumps when the clipmap changes (GL re-uploads)
@@ -88,9 +101,14 @@ struct ContextClouds {
   ContextClouds() = default;
   ContextClouds(ContextClouds&&) = default;
   ContextClouds& operator=(ContextClouds&&) = default;
-  ~ContextClouds() { relight.reset(); }  // before the field dies
+  ~ContextClouds() {  // the jobs before the field dies
+    relight.reset();
+    clipmap_job.reset();
+  }
   bool empty() const { return field.instances.empty(); }
   bool relighting() const { return relight.job != nullptr; }
+  // Lit in full, its clipmap (layer march) for that light, no job running.
+  bool settled() const;
 };
 
 // Validates every layer of `state` and builds the field into *out, all or
@@ -100,20 +118,30 @@ struct ContextClouds {
 Verdict build_clouds(const AtmoCloudsState& state, const AtmoContext_T& context, ContextClouds* out,
                      std::vector<std::string>* load_errors);
 
+// The streamed layer march's draft of the field (set_clouds calls it): the
+// prototypes at half resolution and their ambient depths.
+void prepare_draft(ContextClouds* clouds);
+
 // The light the clouds are lit by this frame (the Sun, or the Moon when it
 // outshines it), in the clouds' frame, with the sky and ground radiance.
 clouds::CloudLight cloud_light(AtmoContext_T* context, AtmoView_T* view, const core::Scene& scene);
 
 // Relights the clouds when the light moved beyond the threshold: the first
-// lighting at once, later ones on a worker (abi/cloud_relight.h) whose grids
-// are swapped in by the first call after it ends. Returns true when the grids
-// changed.
+// lighting at once (with a draft: the draft's, the field's on a worker),
+// later ones on a worker (abi/cloud_relight.h) whose grids are swapped in by
+// the first call after it ends (at once with settings.wait). Returns true
+// when the grids changed.
 bool relight_clouds(ContextClouds* clouds, const glm::dvec3& light_direction_enu);
 
 // Brings the clipmap up to date for an eye (the clouds' frame): rebuilt when
-// the field or its light changed or the eye entered another cell. True when
-// it changed.
+// the field or its light changed or the eye entered another cell. The first
+// build is on the calling thread; later ones on a worker (shown from the
+// first call after it ends) unless settings.wait. True when it changed.
 bool update_clipmap(ContextClouds* clouds, const glm::dvec3& eye_in_clouds_m);
+
+// Blocks until no job of the clouds runs (their results are taken by the next
+// pass). Tests and benchmarks, like wait_for_tables.
+void wait_for_cloud_jobs(ContextClouds* clouds);
 
 // Makes the shadow map now if it is wanted for the first time or stale
 // (relights then keep it up to date); true when it changed.

@@ -59,6 +59,7 @@ int run_headless(const Options& options, SceneSettings settings) {
     std::fprintf(stderr, "atmo-sample-host: gl_init: %s\n", error.c_str());
     status = 1;
   }
+  settings.clouds.setup = ATMO_CLOUD_SETUP_WAIT;  // screenshots: each frame a function of the settings
   if (status == 0 && !settings.clouds.layers.empty()) {
     std::string message;
     const bool ok = renderer->set_clouds(settings, &message);

@@ -240,6 +240,7 @@ bool SampleRenderer::set_clouds(const SceneSettings& settings, std::string* mess
   auto state = atmo::clouds_state(settings.origin.latitude_deg, settings.origin.longitude_deg,
                                   settings.origin.height_m, layers.data(), static_cast<uint32_t>(layers.size()));
   state.draw_mode = static_cast<uint32_t>(clouds.draw_mode);
+  state.setup = static_cast<uint32_t>(clouds.setup);
   state.march_resolution_divisor = clouds.march_resolution_divisor;
 
   const auto start = std::chrono::steady_clock::now();

@@ -37,6 +37,9 @@ struct CloudSettings {
   AtmoCloudDrawMode draw_mode = ATMO_CLOUD_DRAW_IMPOSTORS;
   uint32_t march_resolution_divisor = 2;  // [1, 8]
   AtmoCloudQuality quality = ATMO_CLOUD_QUALITY_DEFAULT;  // the view's cloud_quality (the layer march)
+  // The window streams (a draft first, no frame waits); headless screenshots
+  // wait, so each saved frame is a function of the settings.
+  AtmoCloudSetup setup = ATMO_CLOUD_SETUP_STREAM;
 };
 
 // "cumulus", "stratus", "overcast", "cirrus", "vdb"; nullptr outside the enum.

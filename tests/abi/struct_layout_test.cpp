@@ -23,7 +23,7 @@ TEST(StructLayout, Version1SizesAreFrozen) {
   EXPECT_EQ(sizeof(AtmoCloudLayer), V1Size<AtmoCloudLayer>::value);
   // AtmoCloudsState grew at its end (impostor settings); 80-byte hosts get the defaults.
   EXPECT_EQ(V1Size<AtmoCloudsState>::value, 80u);
-  EXPECT_EQ(sizeof(AtmoCloudsState), 120u);
+  EXPECT_EQ(sizeof(AtmoCloudsState), 128u);  // 120 before setup
   EXPECT_EQ(sizeof(AtmoHostServices), V1Size<AtmoHostServices>::value);
   EXPECT_EQ(sizeof(AtmoContextCreateInfo), V1Size<AtmoContextCreateInfo>::value);
   EXPECT_EQ(sizeof(AtmoViewCreateInfo), V1Size<AtmoViewCreateInfo>::value);
@@ -45,6 +45,7 @@ TEST(StructLayout, Version1OffsetsAreFrozen) {
   EXPECT_EQ(offsetof(AtmoPluginApi, get_cloud_shadows), 152u);
   EXPECT_EQ(offsetof(AtmoCloudsState, light_update_threshold_deg), 72u);
   EXPECT_EQ(offsetof(AtmoCloudsState, draw_mode), 80u);
+  EXPECT_EQ(offsetof(AtmoCloudsState, setup), 120u);
   EXPECT_EQ(offsetof(AtmoCloudsState, layer_size), 68u);  // the version-1 `reserved` (0: the version-1 stride)
   EXPECT_EQ(offsetof(AtmoLightsState, light_size), 20u);
   EXPECT_EQ(offsetof(AtmoHostServices, gl_get_proc_address), 72u);

@@ -8,11 +8,13 @@
 // re-rendered; the budget and the camera-cut rule are checked through it.
 #include <glad/gl.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <regex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "plugin_gl_fixture.h"
@@ -83,11 +85,14 @@ struct Scene {
     s.layers = &layer;
     s.layer_count = 1;
     s.draw_mode = mode;
+    s.setup = setup;
     s.impostor_updates_per_frame = updates_per_frame;
     ASSERT_EQ(f.context->set_clouds(s), ATMO_SUCCESS);
   }
 
   uint32_t cloud_quality = ATMO_CLOUD_QUALITY_DEFAULT;  // the views' AtmoViewState.cloud_quality
+  // AtmoCloudsState.setup: the tests compare frames, so by default each is a function of its inputs.
+  uint32_t setup = ATMO_CLOUD_SETUP_WAIT;
   double heading_deg = 0.0;
 
   // The next frame (AtmoFrameState.host_frame_number + 1, the same time).
@@ -255,6 +260,40 @@ TEST(CloudLayer, ViewOrderDoesNotChangePixels) {
   }
   // The two views do see different clouds (the test compares something).
   EXPECT_LT(psnr(first[0], first[1]), 40.0);
+}
+
+// ATMO_CLOUD_SETUP_STREAM through the ABI: the first frame after set_clouds
+// draws the draft (clouds, close to the full frame but not it); frames keep
+// coming while the workers light and resample the field in full, and at rest
+// the image ends bit for bit where a context that waited for everything is.
+TEST(CloudLayer, StreamedSetUpDrawsADraftFirstThenTheSameFrames) {
+  Scene waited, streamed, clear;
+  waited.set_clouds(ATMO_CLOUD_DRAW_LAYER);
+  atmo::support::Image full;
+  for (int k = 0; k < 5; ++k) {  // 4 frames at rest: every pixel traced
+    waited.next_frame();
+    full = waited.draw(0.0, 0.0, 1700.0);
+  }
+  const atmo::support::Image sky = clear.draw(0.0, 0.0, 1700.0);
+  streamed.setup = ATMO_CLOUD_SETUP_STREAM;
+  streamed.set_clouds(ATMO_CLOUD_DRAW_LAYER);
+  const atmo::support::Image draft = streamed.draw(0.0, 0.0, 1700.0);
+  const double draft_db = psnr(draft, full), sky_db = psnr(sky, full);
+  std::printf("first streamed frame (the draft) against the full frame: PSNR %.2f dB (the sky alone: %.2f dB)\n",
+              draft_db, sky_db);
+  EXPECT_LT(sky_db, 30.0);             // the clouds are much of the frame ...
+  EXPECT_GE(draft_db, sky_db + 6.0);    // ... and the draft draws them (a quarter of the error or less)
+  EXPECT_GE(draft_db, 30.0);
+  EXPECT_LT(draft_db, 99.0);  // but it is a draft
+  int frames = 0;
+  double max_abs = 1.0;
+  for (; frames < 400 && max_abs > 0.0; ++frames) {  // the workers: seconds under ASan
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    streamed.next_frame();
+    max_abs = atmo::support::compare_images(streamed.draw(0.0, 0.0, 1700.0), full, 1.0).max_abs;
+  }
+  std::printf("identical to the waited frame after %d more frames\n", frames);
+  EXPECT_EQ(max_abs, 0.0);
 }
 
 // --- The temporal upsampling (the default ATMO_CLOUD_QUALITY_MEDIUM: a

@@ -6,8 +6,12 @@
 // grid's own depths plus core/clouds/field_light's neighbours). A
 // move under the threshold does nothing; replacing or destroying the clouds
 // while a job runs cancels and joins it (ASan/UBSan builds run this too).
+// The streamed layer march (ATMO_CLOUD_SETUP_STREAM): a draft at once, the
+// full lighting and each cell's clipmap from workers, ending equal to a
+// direct build; ATMO_CLOUD_SETUP_WAIT leaves no job behind.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "abi/cloud_inputs.h"
@@ -88,5 +92,110 @@ TEST(CloudRelight, ReplacingOrDestroyingTheCloudsStopsTheJob) {
     EXPECT_EQ(c.relighting(), round == 2);
   }  // round 2: destroyed with the job running
 }
+
+
+// --- The streamed layer march (ATMO_CLOUD_SETUP_STREAM) -------------------
+
+namespace stream {
+
+bool same_clipmap(const clouds::CloudClipmap& a, const clouds::CloudClipmap& b) {
+  if (a.levels.size() != b.levels.size() || a.cell != b.cell) return false;
+  for (size_t l = 0; l < a.levels.size(); ++l)
+    if (a.levels[l].a != b.levels[l].a || a.levels[l].b != b.levels[l].b || a.levels[l].nx != b.levels[l].nx)
+      return false;
+  return true;
+}
+
+// The first pass lights and resamples the half-resolution draft at once and
+// leaves the field's whole lighting to the worker; once it lands, the
+// clipmap is rebuilt on a worker while the draft's is still drawn, and ends
+// equal (bit for bit) to one built directly from the full lighting. An eye
+// in another cell gets its clipmap the same way: the old one until then.
+TEST(CloudStreamedSetUp, DraftFirstThenTheFullFieldFromTheWorkers) {
+  atmo::abi::ContextClouds c = make_clouds();
+  c.settings.layer = true;
+  c.sides.assign(c.field.prototypes.size(), {});
+  atmo::abi::prepare_draft(&c);
+  ASSERT_EQ(c.draft.prototypes.size(), c.field.prototypes.size());
+  EXPECT_EQ(c.draft.prototypes[0].voxel_size_m, 2.0f * c.field.prototypes[0].voxel_size_m);
+  const glm::dvec3 light = sun(35.0, 140.0), eye(0.0, 0.0, 1400.0);
+
+  EXPECT_TRUE(atmo::abi::relight_clouds(&c, light));
+  EXPECT_FALSE(c.full_lit);
+  EXPECT_TRUE(c.relighting());  // the field's lighting runs on the worker
+  EXPECT_TRUE(atmo::abi::update_clipmap(&c, eye));
+  ASSERT_FALSE(c.clipmap.levels.empty());  // the draft's, at once
+  EXPECT_EQ(c.clipmap.levels[0].nx, c.settings.clipmap.size / 2);
+  float finest = 1e30f;
+  for (const clouds::CloudVolume& v : c.field.prototypes) finest = std::min(finest, v.voxel_size_m);
+  EXPECT_EQ(c.clipmap.levels[0].voxel_m, 2.0 * finest);
+  EXPECT_FALSE(c.settled());
+
+  atmo::abi::wait_for_cloud_jobs(&c);
+  EXPECT_TRUE(atmo::abi::relight_clouds(&c, light));  // the full grids swapped in
+  EXPECT_TRUE(c.full_lit);
+  expect_lit_for(c, light);
+  const uint64_t draft_clipmap = c.clipmap_version;
+  EXPECT_FALSE(atmo::abi::update_clipmap(&c, eye));  // a worker builds the full clipmap; the draft's stays
+  EXPECT_EQ(c.clipmap_version, draft_clipmap);
+  EXPECT_EQ(c.clipmap.levels[0].nx, c.settings.clipmap.size / 2);
+  atmo::abi::wait_for_cloud_jobs(&c);
+  EXPECT_TRUE(atmo::abi::update_clipmap(&c, eye));
+  EXPECT_TRUE(c.settled());
+  const auto mips = clouds::build_prototype_mips(c.field, c.depths, light);
+  const clouds::ClipmapGeometry g = clouds::clipmap_geometry(c.field, c.settings.clipmap);
+  const glm::ivec2 cell = clouds::clipmap_cell(g, eye);
+  EXPECT_TRUE(same_clipmap(c.clipmap, clouds::build_clipmap(c.field, mips, c.ray_index, c.settings.clipmap, g, cell)));
+
+  // Into the next cell: the old clipmap until the worker's is ready.
+  const glm::dvec3 moved = eye + glm::dvec3(1.5 * g.cell_m, 0.0, 0.0);
+  const glm::ivec2 next = clouds::clipmap_cell(g, moved);
+  ASSERT_NE(next, cell);
+  EXPECT_FALSE(atmo::abi::update_clipmap(&c, moved));
+  EXPECT_EQ(c.clipmap.cell, cell);
+  atmo::abi::wait_for_cloud_jobs(&c);
+  EXPECT_TRUE(atmo::abi::update_clipmap(&c, moved));
+  EXPECT_EQ(c.clipmap.cell, next);
+  EXPECT_TRUE(same_clipmap(c.clipmap, clouds::build_clipmap(c.field, mips, c.ray_index, c.settings.clipmap, g, next)));
+}
+
+// settings.wait: no draft; every pass has the full lighting and the clipmap for its cell.
+TEST(CloudStreamedSetUp, WaitingHasNoDraftAndNoJobLeft) {
+  atmo::abi::ContextClouds c = make_clouds();
+  c.settings.layer = true;
+  c.settings.wait = true;
+  const glm::dvec3 eye(0.0, 0.0, 1400.0);
+  EXPECT_TRUE(atmo::abi::relight_clouds(&c, sun(35.0, 140.0)));
+  EXPECT_TRUE(c.full_lit);
+  EXPECT_TRUE(atmo::abi::update_clipmap(&c, eye));
+  EXPECT_TRUE(c.settled());
+  // A relight past the threshold, and a move into another cell: done when the call returns.
+  EXPECT_TRUE(atmo::abi::relight_clouds(&c, sun(45.0, 150.0)));
+  EXPECT_FALSE(c.relighting());
+  EXPECT_TRUE(atmo::abi::update_clipmap(&c, eye + glm::dvec3(1.5 * c.clipmap_geometry.cell_m, 0.0, 0.0)));
+  EXPECT_TRUE(c.settled());
+}
+
+// Replacing or destroying the clouds while both jobs run stops them.
+TEST(CloudStreamedSetUp, ReplacingTheCloudsStopsBothJobs) {
+  for (int round = 0; round < 2; ++round) {
+    atmo::abi::ContextClouds c = make_clouds();
+    c.settings.layer = true;
+    atmo::abi::prepare_draft(&c);
+    const glm::dvec3 eye(0.0, 0.0, 1400.0);
+    atmo::abi::relight_clouds(&c, sun(20.0, 90.0));
+    atmo::abi::update_clipmap(&c, eye);
+    atmo::abi::update_clipmap(&c, eye + glm::dvec3(1.5 * c.clipmap_geometry.cell_m, 0.0, 0.0));
+    ASSERT_TRUE(c.clipmap_job.job != nullptr);
+    ASSERT_TRUE(c.relighting());
+    if (round == 0) {
+      c = make_clouds();  // set_clouds: move-assigned over the running jobs
+      EXPECT_FALSE(c.relighting());
+      EXPECT_TRUE(c.clipmap_job.job == nullptr);
+    }
+  }  // round 1: destroyed with both running
+}
+
+}  // namespace stream
 
 }  // namespace

@@ -90,6 +90,11 @@ TEST(CloudsPass, InvalidStatesAreRejectedWithTheFieldNamed) {
     EXPECT_EQ(raw_set_clouds(f, s), c.code) << c.what;
     EXPECT_NE(f.context->last_error().find(c.message), std::string::npos) << c.what << ": " << f.context->last_error();
   }
+  // The state's own enums.
+  AtmoCloudsState bad_setup = clouds_at_innsbruck(&good, 1);
+  bad_setup.setup = ATMO_CLOUD_SETUP_COUNT;
+  EXPECT_EQ(raw_set_clouds(f, bad_setup), ATMO_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(f.context->last_error().find("AtmoCloudsState.setup = 2"), std::string::npos) << f.context->last_error();
   // Nothing changed: still no clouds.
   atmo::support::Image img;
   EXPECT_EQ(draw_clouds(f, 500.0, 10.0, &img), ATMO_STATUS_NOTHING_TO_DRAW);

@@ -526,7 +526,28 @@ typedef struct AtmoCloudsState {
                                         [1, 100]; default 2 */
   double impostor_max_pixels_per_texel; /* ... or where an impostor texel would cover more pixels of the march's
                                            image than this, [0.25, 8]; default 1 */
+  /* Grew after the impostor settings (120 bytes): a host with that layout gets
+     the default. */
+  uint32_t setup;                    /* AtmoCloudSetup: how ATMO_CLOUD_DRAW_LAYER gets its lighting and clipmap
+                                        ready; default ATMO_CLOUD_SETUP_STREAM. The other draw modes always wait */
+  uint32_t reserved3;                /* 0 */
 } AtmoCloudsState;
+
+/* When the layer march's light grids and clipmap are ready (docs/CLOUDS.md,
+   "Bounded set-up"). */
+typedef enum AtmoCloudSetup {
+  ATMO_CLOUD_SETUP_STREAM = 0, /* the first pass after set_clouds draws a half-resolution draft (lit and
+                                  resampled on the calling thread, ~1/10 of the full work); the full light
+                                  grids, shadow map and clipmap are made on the worker and shown from the first
+                                  pass after each is ready, and the clipmap follows the eye from cell to cell
+                                  the same way: no pass waits. What a frame shows then depends on how far the
+                                  worker got (the machine's load), as with a changed air */
+  ATMO_CLOUD_SETUP_WAIT = 1,   /* every pass that needs the full lighting or a clipmap for its cell makes it
+                                  first (or waits for the worker's): slow first frames and hitches at cell
+                                  crossings, but each frame is a function of the inputs alone. For tests and
+                                  stills */
+  ATMO_CLOUD_SETUP_COUNT = 2
+} AtmoCloudSetup;
 
 /* How ATMO_PASS_CLOUDS draws. */
 typedef enum AtmoCloudDrawMode {

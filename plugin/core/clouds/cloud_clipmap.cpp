@@ -160,7 +160,7 @@ glm::ivec2 clipmap_cell(const ClipmapGeometry& g, const glm::dvec3& eye_m) {
 
 CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeMips>& mips,
                            const CloudRayIndex& index, const ClipmapSpec& spec, const ClipmapGeometry& geometry,
-                           const glm::ivec2& cell) {
+                           const glm::ivec2& cell, const std::atomic<bool>* cancel) {
   CloudClipmap out;
   out.cell = cell;
   // The field's droplet diameters, ascending, at most the table's size.
@@ -180,32 +180,29 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
   const double base = geometry.base_voxel_m;
   const glm::dvec2 centre = (glm::dvec2(cell) + 0.5) * geometry.cell_m;
   const int n_levels = levels_needed(lo, hi, spec, base, centre);
-  // An instance as one level samples it: its mip, and index space from the clouds' frame.
+  // A prototype as one level samples it: its mip, and index space from the
+  // clouds' frame (per prototype: the instances are translated copies).
   struct Placed {
     const PrototypeMips::Mip* mip;
     glm::dmat3 index_from_enu;
-    glm::dvec3 origin;
-    double z0, z1;
     float extinction, droplet_um;
   };
   std::vector<InstanceBox> boxes(field.instances.size());
   for (size_t i = 0; i < boxes.size(); ++i) boxes[i] = instance_box(field, field.instances[i]);
-  std::vector<Placed> placed(field.instances.size());
-  std::vector<Placed> column;
+  std::vector<Placed> placed(field.prototypes.size());
+  std::vector<uint32_t> column;
   for (int l = 0; l < n_levels; ++l) {
     ClipmapLevel L;
     L.voxel_m = std::ldexp(base, l);
     const double v = L.voxel_m;
-    for (size_t i = 0; i < field.instances.size(); ++i) {
-      const CloudInstance& inst = field.instances[i];
-      const CloudVolume& vol = field.prototypes[static_cast<size_t>(inst.prototype)];
-      const PrototypeMips& pm = mips[static_cast<size_t>(inst.prototype)];
+    for (size_t p = 0; p < field.prototypes.size(); ++p) {
+      const CloudVolume& vol = field.prototypes[p];
+      const PrototypeMips& pm = mips[p];
       // The mip whose voxel is nearest the level's (the box filter that level needs).
       const int mip = std::clamp(static_cast<int>(std::lround(std::log2(v / vol.voxel_size_m))), 0,
                                  static_cast<int>(pm.mips.size()) - 1);
-      placed[i] = {&pm.mips[static_cast<size_t>(mip)],
+      placed[p] = {&pm.mips[static_cast<size_t>(mip)],
                    glm::mat3_cast(glm::inverse(vol.rotation)) / (double(vol.voxel_size_m) * std::ldexp(1.0, mip)),
-                   inst.origin_enu_m, boxes[i].lo.z - v, boxes[i].hi.z + v,
                    vol.optics.extinction_per_m, vol.optics.droplet_diameter_um};
     }
     L.nx = L.ny = spec.size;
@@ -215,7 +212,8 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
                             std::floor((centre.y - 0.5 * spec.size * v) / v) * v, lo.z - v);
     L.a.assign(static_cast<size_t>(L.nx) * L.ny * L.nz, glm::vec4(0.0f));
     L.b.assign(L.a.size(), glm::vec2(0.0f));
-    for (int y = 0; y < L.ny; ++y)
+    for (int y = 0; y < L.ny; ++y) {
+      if (cancel && cancel->load(std::memory_order_relaxed)) return out;
       for (int x = 0; x < L.nx; ++x) {
         const glm::dvec2 p(L.origin_m.x + (x + 0.5) * v, L.origin_m.y + (y + 0.5) * v);
         const int bx = static_cast<int>(std::floor((p.x - index.corner_enu_m.x) / index.cell_m));
@@ -228,25 +226,29 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
           const uint32_t i = index.items[k];
           if (p.x >= boxes[i].lo.x - v && p.x <= boxes[i].hi.x + v && p.y >= boxes[i].lo.y - v &&
               p.y <= boxes[i].hi.y + v)
-            column.push_back(placed[i]);
+            column.push_back(i);
         }
-        if (column.empty()) continue;
-        for (int z = 0; z < L.nz; ++z) {
-          const double height = L.origin_m.z + (z + 0.5) * v;
-          glm::vec4 a(0.0f);
-          glm::vec2 b(0.0f);
-          for (const Placed& c : column) {
-            if (height < c.z0 || height > c.z1) continue;
-            const glm::vec3 q(c.index_from_enu * (glm::dvec3(p, height) - c.origin));
-            const Terms t = sample_mip(*c.mip, q);
+        // Instance by instance over the voxels of its height range: along the
+        // column its index point moves by a constant step per voxel.
+        for (const uint32_t i : column) {
+          const Placed& c = placed[static_cast<size_t>(field.instances[i].prototype)];
+          const double z0 = boxes[i].lo.z - v, z1 = boxes[i].hi.z + v;
+          const int z_lo = std::max(0, static_cast<int>(std::ceil((z0 - L.origin_m.z) / v - 0.5)));
+          const int z_hi = std::min(L.nz - 1, static_cast<int>(std::floor((z1 - L.origin_m.z) / v - 0.5)));
+          if (z_lo > z_hi) continue;
+          const glm::dvec3 q0 =
+              c.index_from_enu * (glm::dvec3(p, L.origin_m.z + (z_lo + 0.5) * v) - field.instances[i].origin_enu_m);
+          const glm::dvec3 dq = c.index_from_enu[2] * v;
+          for (int z = z_lo; z <= z_hi; ++z) {
+            const Terms t = sample_mip(*c.mip, glm::vec3(q0 + dq * double(z - z_lo)));
             if (t.a.x <= 0.0f) continue;
-            a += c.extinction * t.a;
-            b += glm::vec2(c.extinction * t.back, c.extinction * c.droplet_um * t.a.x);
+            const size_t o = L.index(x, y, z);
+            L.a[o] += c.extinction * t.a;
+            L.b[o] += glm::vec2(c.extinction * t.back, c.extinction * c.droplet_um * t.a.x);
           }
-          L.a[L.index(x, y, z)] = a;
-          L.b[L.index(x, y, z)] = b;
         }
       }
+    }
     out.levels.push_back(std::move(L));
   }
   return out;

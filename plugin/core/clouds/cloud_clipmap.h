@@ -14,6 +14,7 @@
 // field, its light grids and the eye's lattice cell (never of the history).
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -86,10 +87,11 @@ glm::ivec2 clipmap_cell(const ClipmapGeometry& geometry, const glm::dvec3& eye_m
 
 // Builds every level centred on `cell`; `index` (build_cloud_ray_index) finds
 // the instances over a column, `geometry` is clipmap_geometry(field, spec).
-// O(levels x size^2 x nz x instances per bucket).
+// O(levels x size^2 x nz x instances per bucket). Stops early (an unfinished
+// clipmap, to be thrown away) once *cancel is true (a worker's build).
 CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeMips>& mips,
                            const CloudRayIndex& index, const ClipmapSpec& spec, const ClipmapGeometry& geometry,
-                           const glm::ivec2& cell);
+                           const glm::ivec2& cell, const std::atomic<bool>* cancel = nullptr);
 
 // The march's volume on the CPU (cloud_layer_march.glsl's CLOUD_LAYER).
 struct CpuCloudLayer {

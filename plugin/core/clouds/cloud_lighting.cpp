@@ -147,7 +147,8 @@ void column_depths(const DenseGrid& g, float per_index_unit, std::vector<float>*
 
 }  // namespace
 
-void compute_ambient_depths(const CloudVolume& cloud, LightDepths* out, const ContinuingSides& sides) {
+void compute_ambient_depths(const CloudVolume& cloud, LightDepths* out, const ContinuingSides& sides,
+                            int directions) {
   const DenseGrid& g = cloud.density;
   out->nx = g.nx;
   out->ny = g.ny;
@@ -155,26 +156,36 @@ void compute_ambient_depths(const CloudVolume& cloud, LightDepths* out, const Co
   out->tau.assign(g.voxel_count(), glm::vec3(0.0f));
   out->sides = sides;
   // Each hemisphere's directions, uniform in solid angle (a spiral of
-  // kAmbientDirections, cos theta at the centres of equal bands), in ENU then
+  // `directions`, cos theta at the centres of equal bands), in ENU then
   // in the grid's axes.
   const float per_index_unit = cloud.voxel_size_m * cloud.optics.extinction_per_m;
+  const int n = std::max(1, directions);
   std::vector<double> conductance[2];
   for (auto& v : conductance) v.assign(g.voxel_count(), 0.0);
   std::vector<float> tau, column_up, column_down;
   if (sides.any()) column_depths(g, per_index_unit, &column_up, &column_down);
   for (int h = 0; h < 2; ++h)
-    for (int k = 0; k < kAmbientDirections; ++k) {
-      const double cos_t = 1.0 - (k + 0.5) / kAmbientDirections, sin_t = std::sqrt(1.0 - cos_t * cos_t);
+    for (int k = 0; k < n; ++k) {
+      const double cos_t = 1.0 - (k + 0.5) / n, sin_t = std::sqrt(1.0 - cos_t * cos_t);
       const double phi = 2.399963229728653 * k;  // golden angle
       const glm::dvec3 d_enu(sin_t * std::cos(phi), sin_t * std::sin(phi), h == 0 ? cos_t : -cos_t);
       sweep_depths(g, grid_direction(cloud, d_enu), per_index_unit, sides, column_up, column_down, &tau);
       for (size_t i = 0; i < tau.size(); ++i) conductance[h][i] += 1.0 / (1.0 + tau[i] / kAmbientEscapeDepth);
     }
   for (size_t i = 0; i < g.voxel_count(); ++i) {
-    const double up_mean = conductance[0][i] / kAmbientDirections, down_mean = conductance[1][i] / kAmbientDirections;
+    const double up_mean = conductance[0][i] / n, down_mean = conductance[1][i] / n;
     out->tau[i].y = static_cast<float>(kAmbientEscapeDepth * (1.0 / up_mean - 1.0));
     out->tau[i].z = static_cast<float>(kAmbientEscapeDepth * (1.0 / down_mean - 1.0));
   }
+}
+
+void sweep_light_depths(const CloudVolume& cloud, const glm::dvec3& light_dir_enu, LightDepths* out) {
+  const DenseGrid& g = cloud.density;
+  const float per_index_unit = cloud.voxel_size_m * cloud.optics.extinction_per_m;
+  std::vector<float> tau, column_up, column_down;
+  if (out->sides.any()) column_depths(g, per_index_unit, &column_up, &column_down);
+  sweep_depths(g, grid_direction(cloud, light_dir_enu), per_index_unit, out->sides, column_up, column_down, &tau);
+  for (size_t i = 0; i < tau.size() && i < out->tau.size(); ++i) out->tau[i].x = tau[i];
 }
 
 void compute_light_depth_slices(const CloudVolume& cloud, const glm::dvec3& light_dir_enu, int z_begin, int z_end,

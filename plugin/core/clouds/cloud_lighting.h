@@ -58,13 +58,20 @@ float optical_depth_to_exit(const CloudVolume& cloud, const glm::vec3& index_poi
                             float step_voxels = kDepthStepVoxels);
 
 // Sizes *out to the cloud and fills tau_up and tau_down (hemispherical, above;
-// one sweep of the grid per direction); records `sides` in out->sides.
-void compute_ambient_depths(const CloudVolume& cloud, LightDepths* out, const ContinuingSides& sides = {});
+// one sweep of the grid per direction, `directions` per hemisphere); records
+// `sides` in out->sides.
+void compute_ambient_depths(const CloudVolume& cloud, LightDepths* out, const ContinuingSides& sides = {},
+                            int directions = kAmbientDirections);
 // Fills tau_light for z-slices [z_begin, z_end) (out already sized).
 void compute_light_depth_slices(const CloudVolume& cloud, const glm::dvec3& light_dir_enu, int z_begin, int z_end,
                                 LightDepths* out);
 // All of it at once.
 LightDepths compute_light_depths(const CloudVolume& cloud, const glm::dvec3& light_dir_enu);
+// tau_light of every voxel in one sweep (as the ambient depths: exact along
+// an axis, blurred by up to a voxel elsewhere; across out->sides the cloud
+// goes on to the top or bottom), O(voxels) where the march is O(voxels^4/3):
+// the streamed layer march's draft. out already sized (compute_ambient_depths).
+void sweep_light_depths(const CloudVolume& cloud, const glm::dvec3& light_dir_enu, LightDepths* out);
 
 // The march's volume on the CPU (declared in cloud_twin.h).
 struct CpuCloudVolume {

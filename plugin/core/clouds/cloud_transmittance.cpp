@@ -97,6 +97,23 @@ CloudRayIndex build_cloud_ray_index(const CloudField& field, int max_cells_per_s
   return ix;
 }
 
+void instances_near(const CloudRayIndex& ix, const glm::dvec2& lo, const glm::dvec2& hi, std::vector<uint32_t>* out) {
+  out->clear();
+  if (ix.nx == 0 || ix.ny == 0 || !(lo.x <= hi.x) || !(lo.y <= hi.y)) return;
+  auto cell = [&](double v, double corner, int n) {
+    return std::clamp(static_cast<int>(std::floor(std::clamp((v - corner) / ix.cell_m, -1.0, double(n)))), 0, n - 1);
+  };
+  const int x0 = cell(lo.x, ix.corner_enu_m.x, ix.nx), x1 = cell(hi.x, ix.corner_enu_m.x, ix.nx);
+  const int y0 = cell(lo.y, ix.corner_enu_m.y, ix.ny), y1 = cell(hi.y, ix.corner_enu_m.y, ix.ny);
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const size_t b = static_cast<size_t>(y) * ix.nx + x;
+      out->insert(out->end(), ix.items.begin() + ix.start[b], ix.items.begin() + ix.start[b + 1]);
+    }
+  std::sort(out->begin(), out->end());
+  out->erase(std::unique(out->begin(), out->end()), out->end());
+}
+
 double transmittance_along_ray(const CloudField& field, const CloudRayIndex& ix, const glm::dvec3& o,
                                const glm::dvec3& d, double max_distance_m, double step_voxels) {
   if (ix.nx <= 0 || field.instances.empty()) return 1.0;

@@ -30,6 +30,12 @@ struct CloudRayIndex {
 // 4 buckets when boxes are alike), at most max_cells_per_side per side.
 CloudRayIndex build_cloud_ray_index(const CloudField& field, int max_cells_per_side = 512);
 
+// The instances whose boxes reach into the (east, north) rectangle [lo, hi]
+// through the buckets it touches (a superset: boxes near it may come too),
+// ascending, each once, into *out.
+void instances_near(const CloudRayIndex& index, const glm::dvec2& lo, const glm::dvec2& hi,
+                    std::vector<uint32_t>* out);
+
 // exp(-tau) of every instance box the ray origin + t dir (t in [0,
 // max_distance_m], dir unit, ENU of the field) crosses: the trilinear density
 // times the box's extinction, midpoint steps of step_voxels voxels per box

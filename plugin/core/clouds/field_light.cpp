@@ -164,18 +164,53 @@ int sole_instance(const CloudField& field, int prototype) {
   return found;
 }
 
-ContinuingSides continuing_sides(const CloudField& field, int prototype) {
+FieldNeighbours field_neighbours(const CloudField& field, const CloudRayIndex& index) {
+  FieldNeighbours n;
+  n.index = &index;
+  n.sole.assign(field.prototypes.size(), -1);
+  std::vector<int> count(field.prototypes.size(), 0);
+  for (size_t i = 0; i < field.instances.size(); ++i) {
+    const int p = field.instances[i].prototype;
+    if (p < 0 || p >= static_cast<int>(count.size())) continue;
+    if (++count[static_cast<size_t>(p)] == 1) n.sole[static_cast<size_t>(p)] = static_cast<int>(i);
+  }
+  for (size_t p = 0; p < count.size(); ++p)
+    if (count[p] != 1) n.sole[p] = -1;
+  return n;
+}
+
+namespace {
+
+// The instances a search over the ENU rectangle [lo, hi] must look at: those
+// near it (with neighbours), else every one.
+void candidates(const CloudField& field, const FieldNeighbours* neighbours, const glm::dvec2& lo, const glm::dvec2& hi,
+                std::vector<uint32_t>* out) {
+  if (neighbours && neighbours->index) {
+    instances_near(*neighbours->index, lo, hi, out);
+    return;
+  }
+  out->resize(field.instances.size());
+  for (size_t i = 0; i < out->size(); ++i) (*out)[i] = static_cast<uint32_t>(i);
+}
+
+}  // namespace
+
+ContinuingSides continuing_sides(const CloudField& field, int prototype, const FieldNeighbours* neighbours) {
   ContinuingSides sides;
-  const int self = sole_instance(field, prototype);
+  const int self = neighbours && prototype >= 0 && prototype < static_cast<int>(neighbours->sole.size())
+                       ? neighbours->sole[static_cast<size_t>(prototype)]
+                       : sole_instance(field, prototype);
   if (self < 0) return sides;
   const CloudVolume& vol = field.prototypes[static_cast<size_t>(prototype)];
   if (vol.density.empty()) return sides;
   const glm::dvec3 size = grid_size(vol.density);
   const glm::dmat3 to_enu = glm::mat3_cast(vol.rotation) * static_cast<double>(vol.voxel_size_m);
   const glm::dvec3 origin = field.instances[static_cast<size_t>(self)].origin_enu_m;
+  std::vector<uint32_t> near;
   auto in_another_grid = [&](const glm::dvec3& p_index) {
     const glm::dvec3 p = origin + to_enu * p_index;
-    for (size_t i = 0; i < field.instances.size(); ++i) {
+    candidates(field, neighbours, glm::dvec2(p), glm::dvec2(p), &near);
+    for (const uint32_t i : near) {
       if (static_cast<int>(i) == self) continue;
       const CloudInstance& other = field.instances[i];
       const CloudVolume& v = field.prototypes[static_cast<size_t>(other.prototype)];
@@ -204,12 +239,14 @@ ContinuingSides continuing_sides(const CloudField& field, int prototype) {
 }
 
 FieldLightPlan plan_field_light(const CloudField& field, int prototype, const glm::dvec3& light_dir_enu,
-                                const FieldLightOptions& options) {
+                                const FieldLightOptions& options, const FieldNeighbours* neighbours) {
   FieldLightPlan plan;
   if (prototype < 0 || prototype >= static_cast<int>(field.prototypes.size())) return plan;
   // A shared grid serves copies in different neighbourhoods: it cannot hold
   // one copy's shadow, so shared prototypes keep their own tau_light only.
-  const int self = sole_instance(field, prototype);
+  const int self = neighbours && prototype < static_cast<int>(neighbours->sole.size())
+                       ? neighbours->sole[static_cast<size_t>(prototype)]
+                       : sole_instance(field, prototype);
   if (self < 0) return plan;
   const CloudVolume& vol = field.prototypes[prototype];
   if (vol.density.empty()) return plan;
@@ -222,7 +259,24 @@ FieldLightPlan plan_field_light(const CloudField& field, int prototype, const gl
   // This prototype's index space -> ENU: origin + R * p * v.
   const glm::dmat3 to_enu = glm::mat3_cast(vol.rotation) * static_cast<double>(vol.voxel_size_m);
   const glm::dvec3 origin = field.instances[self].origin_enu_m;
-  for (size_t i = 0; i < field.instances.size(); ++i) {
+  // Only grids the box swept along the light meets before it leaves the
+  // field's heights can be in the way: those near that sweep's footprint.
+  std::vector<uint32_t> near;
+  {
+    const InstanceBox box = instance_box(field, field.instances[static_cast<size_t>(self)]);
+    const glm::dvec3 d = glm::normalize(light_dir_enu);
+    double reach = kInf;
+    if (neighbours && neighbours->index) {
+      const CloudRayIndex& ix = *neighbours->index;
+      if (d.z > 1e-9) reach = (ix.z_hi_m - box.lo.z) / d.z;
+      if (d.z < -1e-9) reach = (ix.z_lo_m - box.hi.z) / d.z;
+      reach = std::min(std::max(reach, 0.0), 2.0 * ix.cell_m * (ix.nx + ix.ny));  // beyond the field: the field
+    }
+    const glm::dvec2 far = glm::dvec2(d) * (std::isfinite(reach) ? reach : 0.0);
+    candidates(field, neighbours, glm::min(glm::dvec2(box.lo), glm::dvec2(box.lo) + far),
+               glm::max(glm::dvec2(box.hi), glm::dvec2(box.hi) + far), &near);
+  }
+  for (const uint32_t i : near) {
     if (static_cast<int>(i) == self) continue;
     const CloudInstance& inst = field.instances[i];
     if (inst.prototype < 0 || inst.prototype >= static_cast<int>(field.prototypes.size())) continue;

@@ -30,6 +30,7 @@
 
 #include "core/clouds/cloud_field.h"
 #include "core/clouds/cloud_lighting.h"
+#include "core/clouds/cloud_transmittance.h"
 
 namespace atmo::clouds {
 
@@ -55,12 +56,22 @@ struct FieldLightOptions {
 // The instance that places `prototype`, if exactly one does; -1 otherwise.
 int sole_instance(const CloudField& field, int prototype);
 
+// What the neighbour searches below take from the field once: every
+// prototype's sole instance and the field's buckets, so that a tile's
+// neighbours cost the instances near it rather than all of them (a 400 km
+// deck is 10 000 tiles). Without it (nullptr) they scan every instance.
+struct FieldNeighbours {
+  std::vector<int> sole;                 // per prototype, as sole_instance
+  const CloudRayIndex* index = nullptr;  // build_cloud_ray_index(field); must outlive this
+};
+FieldNeighbours field_neighbours(const CloudField& field, const CloudRayIndex& index);
+
 // The side faces of a prototype placed exactly once across which another
 // instance's grid goes on (a deck's neighbouring tiles: points one voxel
 // beyond the face, at a quarter, half and three quarters of its width, mid
 // height, lie in another grid, at least two of the three). For
 // compute_ambient_depths. None for a prototype with several copies.
-ContinuingSides continuing_sides(const CloudField& field, int prototype);
+ContinuingSides continuing_sides(const CloudField& field, int prototype, const FieldNeighbours* neighbours = nullptr);
 
 // What one prototype's light rays meet outside its grid, for one light
 // direction: the grids in the way and the exit maps. Refers to the field's
@@ -101,7 +112,7 @@ struct FieldLightPlan {
 // (a 3 km overcast tile at 2 degrees: ~15 ms). plan.prototype = -1 when
 // there is nothing to add.
 FieldLightPlan plan_field_light(const CloudField& field, int prototype, const glm::dvec3& light_dir_enu,
-                                const FieldLightOptions& options = {});
+                                const FieldLightOptions& options = {}, const FieldNeighbours* neighbours = nullptr);
 
 // ADDS the optical depth beyond the grid to tau_light (.x) of z-slices
 // [z_begin, z_end) of `depths`, the plan's prototype's light depths, which
