@@ -511,3 +511,38 @@ TEST(FieldLight, TileAmbientDepthsSeeTheNeighbouringTiles) {
   EXPECT_LE(mean_near[1], 0.33 * mean_near[0]);
   EXPECT_LE(mean_far[1], 0.05);
 }
+
+// The neighbour search through the field's ray index (FieldNeighbours, what
+// set_clouds and the relight use: a 400 km deck is 10 000 tiles) finds the
+// same sides and the same light as the scan of every instance, bit for bit,
+// on a stratus deck with holes at low and high Sun, from all four quarters.
+TEST(FieldLight, NeighboursThroughTheIndexMatchTheFullScan) {
+  const GeneratedLayer layer = deck(CloudLayerType::Stratus, 5, 12000);
+  const CloudField& f = layer.field;
+  ASSERT_GT(f.prototypes.size(), 9u);
+  const CloudRayIndex index = build_cloud_ray_index(f);
+  const FieldNeighbours nb = field_neighbours(f, index);
+  for (size_t p = 0; p < f.prototypes.size(); ++p) {
+    EXPECT_EQ(nb.sole[p], sole_instance(f, static_cast<int>(p)));
+    const ContinuingSides a = continuing_sides(f, static_cast<int>(p)), b = continuing_sides(f, static_cast<int>(p), &nb);
+    EXPECT_TRUE(a.west == b.west && a.east == b.east && a.south == b.south && a.north == b.north) << p;
+  }
+  size_t planned = 0;
+  for (const glm::dvec3& light : {light_from(3.0, 40.0), light_from(8.0, 130.0), light_from(25.0, 220.0),
+                                  light_from(60.0, 310.0)}) {
+    const std::vector<LightDepths> own = own_depths(f, light);
+    for (size_t p = 0; p < f.prototypes.size(); ++p) {
+      const FieldLightPlan scan = plan_field_light(f, static_cast<int>(p), light);
+      const FieldLightPlan near = plan_field_light(f, static_cast<int>(p), light, {}, &nb);
+      ASSERT_EQ(scan.prototype, near.prototype) << p;
+      ASSERT_EQ(scan.ahead.size(), near.ahead.size()) << p;
+      if (scan.prototype < 0) continue;
+      ++planned;
+      LightDepths x = own[p], y = own[p];
+      add_field_light_slices(f, scan, 0, x.nz, &x);
+      add_field_light_slices(f, near, 0, y.nz, &y);
+      ASSERT_TRUE(x.tau == y.tau) << "prototype " << p;
+    }
+  }
+  EXPECT_GT(planned, 0u);
+}

@@ -787,10 +787,12 @@ typedef struct AtmoPluginApi {
      the whole call and the clouds are unchanged. Every file is still tried:
      each failure is logged, last_error names the first, and the result is
      ATMO_ERROR_IO (a file) or the validation error.
-     The clouds are lit on the first cloud pass; when the light later moves
-     past light_update_threshold_deg they are relit on a worker thread the
-     plugin owns (it never calls the host), and passes keep drawing with the
-     old light until it ends. [ctx-sync][no-gl] */
+     The clouds are lit on the first cloud pass (ATMO_CLOUD_DRAW_LAYER with
+     ATMO_CLOUD_SETUP_STREAM, the default there: a half-resolution draft at
+     once, the full lighting on a worker, AtmoCloudSetup); when the light
+     later moves past light_update_threshold_deg they are relit on a worker
+     thread the plugin owns (it never calls the host), and passes keep
+     drawing with the old light until it ends. [ctx-sync][no-gl] */
   AtmoResult (*set_clouds)(AtmoContext context, const AtmoCloudsState* state);
 
   /* The clouds' shadow map for this view's world frame. Needs gl_init,
