@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/clouds/cloud_clipmap.h"
 #include "core/clouds/cloud_optics.h"
 #include "core/clouds/procedural_clouds.h"
 #include "reference_clouds.h"
@@ -137,7 +138,7 @@ const StoredReference* stored_reference(const char* key) {
   return nullptr;
 }
 
-LightingErrors compare_with_reference(const LightingView& v, const twin::CloudOctaves& octaves) {
+LightingErrors compare_with_reference(const LightingView& v, const twin::CloudOctaves& octaves, LightingMarch how) {
   const CloudVolume cloud = v.cloud();
   const PinholeCamera cam = camera_for(v, cloud);
   const StoredReference* ref = stored_reference(v.key);
@@ -152,6 +153,26 @@ LightingErrors compare_with_reference(const LightingView& v, const twin::CloudOc
   amb.ground_radiance = glm::dvec3(kViewGroundCdm2);
   const twin::CloudMarch m_sun = make_cloud_march(cloud, sun, 0.5f, 2048);
   const twin::CloudMarch m_amb = make_cloud_march(cloud, amb, 0.5f, 2048);
+  // The layer march's clipmap of the one cloud, as set_clouds would place it.
+  CloudField field;
+  CloudClipmap clipmap;
+  twin::CloudLayerMarch l_sun{}, l_amb{};
+  if (how == LightingMarch::Layer) {
+    field.prototypes.push_back(cloud);
+    field.instances.push_back({0, cloud.origin_enu_m});
+    const ClipmapSpec spec;
+    const ClipmapGeometry geometry = clipmap_geometry(field, spec);
+    clipmap = build_clipmap(field, build_prototype_mips(field, {depths}, v.sun), build_cloud_ray_index(field), spec,
+                            geometry, clipmap_cell(geometry, cam.position_enu_m));
+    l_sun = make_layer_march(clipmap, cam.position_enu_m, sun, 0.5f, 4096);
+    l_amb = make_layer_march(clipmap, cam.position_enu_m, amb, 0.5f, 4096);
+  }
+  auto model = [&](const glm::dvec3& d, bool of_sun) {
+    if (how == LightingMarch::Layer)
+      return double(march_layer_ray(clipmap, of_sun ? l_sun : l_amb, octaves, d, 1e9).radiance.g);
+    return double(
+        march_cloud_ray(cloud, depths, of_sun ? m_sun : m_amb, phase, octaves, cam.position_enu_m, d, 1e9).radiance.g);
+  };
   double sun_model = 0.0, sun_truth = 0.0, amb_model = 0.0, amb_truth = 0.0;
   for (int row = 0; row < v.res; ++row)
     for (int col = 0; col < v.res; ++col) {
@@ -159,8 +180,7 @@ LightingErrors compare_with_reference(const LightingView& v, const twin::CloudOc
       if (px[3] > v.max_transmittance) continue;
       const double truth_sun = px[0], truth_amb = px[1] + px[2], truth = truth_sun + truth_amb;
       const glm::dvec3 d = pixel_ray(cam, row, col);
-      const double ms = march_cloud_ray(cloud, depths, m_sun, phase, octaves, cam.position_enu_m, d, 1e9).radiance.g;
-      const double ma = march_cloud_ray(cloud, depths, m_amb, phase, octaves, cam.position_enu_m, d, 1e9).radiance.g;
+      const double ms = model(d, true), ma = model(d, false);
       e.mean += std::abs(ms + ma - truth) / truth;
       e.bias += (ms + ma) / truth - 1.0;
       e.sun += std::abs(ms - truth_sun) / truth;

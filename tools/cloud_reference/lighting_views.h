@@ -65,7 +65,13 @@ struct LightingErrors {
   double noise = 0.0;                           // the reference's: mean |a - b| / (a + b)
   int pixels = 0;                               // 0: no stored reference (or none of its size)
 };
-LightingErrors compare_with_reference(const LightingView& v, const twin::CloudOctaves& octaves);
+// What marches the model's rays: the per-cloud march (cloud_march.glsl's
+// twin, on the cloud's own grid) or the layer march (cloud_layer_march.glsl's
+// twin, through a clipmap of the one cloud centred on the eye's cell, as
+// ATMO_CLOUD_DRAW_LAYER draws it), both at 0.5-voxel steps, no step budget.
+enum class LightingMarch { PerCloud, Layer };
+LightingErrors compare_with_reference(const LightingView& v, const twin::CloudOctaves& octaves,
+                                      LightingMarch march = LightingMarch::PerCloud);
 
 // The rays compare_with_reference marches for a view, lit by the Sun, sky and
 // ground together as the plugin lights them: what a cost measurement marches.
