@@ -107,14 +107,13 @@ TEST(CloudOctaves, HeldOutCloudsAgainstPathTracer) {
 }
 
 // The layer march (ATMO_CLOUD_DRAW_LAYER: the same lighting through a clipmap
-// of the cloud, resampled around the eye, its depths premultiplied by the
-// density) against the same references, every view. Each limit is ~2 points
-// above the view's measured figure (docs/CLOUDS.md: the development views'
-// mean is within the 15 % target, the held-out views' is not yet: the thin
-// clouds and the stratus tile come out too bright through the clipmap).
+// of the cloud, resampled around the eye) against the same references, every
+// view: each within ~2 points of its measured figure and within 4 points of
+// the per-cloud march (what the clipmap's resampling costs; measured: see
+// docs/CLOUDS.md), and both means within the 15 % target.
 TEST(CloudOctaves, LayerMarchAgainstPathTracer) {
-  const std::vector<double> limits[2] = {{0.14, 0.17, 0.18, 0.19, 0.14, 0.16, 0.25, 0.15, 0.16, 0.11, 0.08},
-                                         {0.29, 0.16, 0.23, 0.06, 0.31}};
+  const std::vector<double> limits[2] = {{0.14, 0.17, 0.17, 0.19, 0.12, 0.11, 0.26, 0.15, 0.12, 0.12, 0.09},
+                                         {0.22, 0.17, 0.10, 0.08, 0.29}};
   const std::vector<View>* groups[2] = {&development_views(), &held_out_views()};
   double mean[2] = {0.0, 0.0}, worst_gap = -1.0;
   for (int g = 0; g < 2; ++g) {
@@ -128,6 +127,7 @@ TEST(CloudOctaves, LayerMarchAgainstPathTracer) {
       print(v, layer, "layer ");
       EXPECT_EQ(layer.pixels, per_cloud.pixels) << v.key;
       EXPECT_LE(layer.mean, limits[g][i]) << v.name << " (per-cloud march " << per_cloud.mean << ")";
+      EXPECT_LE(layer.mean, per_cloud.mean + 0.04) << v.name << " (per-cloud march " << per_cloud.mean << ")";
       worst_gap = std::max(worst_gap, layer.mean - per_cloud.mean);
       mean[g] += layer.mean / static_cast<double>(views.size());
     }
@@ -136,7 +136,7 @@ TEST(CloudOctaves, LayerMarchAgainstPathTracer) {
               "the per-cloud march %+.1f points\n",
               100.0 * mean[0], 100.0 * mean[1], 100.0 * worst_gap);
   EXPECT_LE(mean[0], 0.15);
-  EXPECT_LE(mean[1], 0.20);
+  EXPECT_LE(mean[1], 0.15);
 }
 
 // The stored references against the path tracer as it is now, cheaply: the

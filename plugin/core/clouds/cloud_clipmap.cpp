@@ -14,7 +14,7 @@ namespace {
 // 0's voxel grows until they fit (192 MiB).
 constexpr double kMaxClipmapVoxels = 16.0 * (1 << 20);
 
-// A mip's five premultiplied terms trilinearly at an index point (zero outside).
+// A mip's five terms (density, the four depths) trilinearly at an index point (zero outside).
 struct Terms {
   glm::vec4 a{0.0f};
   float back = 0.0f;
@@ -35,6 +35,9 @@ Terms sample_mip(const PrototypeMips::Mip& m, const glm::vec3& q) {
   });
 }
 
+// Half the resolution: the mean density, and the depths weighted by density
+// (the light that reaches the cloud in the cell; their plain mean where the
+// cell is empty).
 PrototypeMips::Mip half_of(const PrototypeMips::Mip& f) {
   PrototypeMips::Mip h;
   h.nx = (f.nx + 1) / 2, h.ny = (f.ny + 1) / 2, h.nz = (f.nz + 1) / 2;
@@ -43,18 +46,25 @@ PrototypeMips::Mip half_of(const PrototypeMips::Mip& f) {
   for (int z = 0; z < h.nz; ++z)
     for (int y = 0; y < h.ny; ++y)
       for (int x = 0; x < h.nx; ++x) {
-        glm::vec4 a(0.0f);
-        float b = 0.0f;
+        float rho = 0.0f, back_w = 0.0f, back = 0.0f;
+        glm::vec3 tau_w(0.0f), tau(0.0f);
+        int n = 0;
         for (int c = 0; c < 8; ++c) {
           const int fx = 2 * x + (c & 1), fy = 2 * y + ((c >> 1) & 1), fz = 2 * z + ((c >> 2) & 1);
-          if (fx >= f.nx || fy >= f.ny || fz >= f.nz) continue;  // outside: zero density, zero terms
+          if (fx >= f.nx || fy >= f.ny || fz >= f.nz) continue;  // outside: zero density
           const size_t i = (static_cast<size_t>(fz) * f.ny + fy) * f.nx + fx;
-          a += f.terms[i];
-          b += f.tau_back[i];
+          const glm::vec4& t = f.terms[i];
+          rho += t.x;
+          tau_w += t.x * glm::vec3(t.y, t.z, t.w);
+          back_w += t.x * f.tau_back[i];
+          tau += glm::vec3(t.y, t.z, t.w);
+          back += f.tau_back[i];
+          ++n;
         }
         const size_t o = (static_cast<size_t>(z) * h.ny + y) * h.nx + x;
-        h.terms[o] = a * 0.125f;
-        h.tau_back[o] = b * 0.125f;
+        const glm::vec3 t = rho > 0.0f ? tau_w / rho : tau / float(std::max(n, 1));
+        h.terms[o] = glm::vec4(rho * 0.125f, t);
+        h.tau_back[o] = rho > 0.0f ? back_w / rho : back / float(std::max(n, 1));
       }
   return h;
 }
@@ -119,17 +129,16 @@ std::vector<PrototypeMips> build_prototype_mips(const CloudField& field, const s
           const size_t i = g.index(x, y, z);
           const float rho = g.values[i];
           const glm::vec3& tau = d.tau[i];
-          float back = 0.0f;
-          if (rho > 0.0f) {
-            const glm::vec3 point(x + 0.5f, y + 0.5f, z + 0.5f);
-            const glm::vec2 hit = twin::cloud_box_hit(point, -march.light_dir_grid, march.grid_size);
-            const glm::vec3 exit = point - march.light_dir_grid * hit.y;
-            const glm::vec3 far_point = glm::clamp(exit, glm::vec3(0.5f), march.grid_size - glm::vec3(0.5f));
-            back = std::max(std::max(fetch_cloud_volume(vol, far_point).y - tau.x, 0.0f),
-                            twin::cloud_depth_beyond_side(march, exit, tau.y, tau.z));
-          }
-          m.terms[i] = glm::vec4(rho, rho * tau.x, rho * tau.y, rho * tau.z);
-          m.tau_back[i] = rho * back;
+          // Every voxel, empty or not: the depths are interpolated between voxels as the
+          // per-cloud march interpolates them.
+          const glm::vec3 point(x + 0.5f, y + 0.5f, z + 0.5f);
+          const glm::vec2 hit = twin::cloud_box_hit(point, -march.light_dir_grid, march.grid_size);
+          const glm::vec3 exit = point - march.light_dir_grid * hit.y;
+          const glm::vec3 far_point = glm::clamp(exit, glm::vec3(0.5f), march.grid_size - glm::vec3(0.5f));
+          const float back = std::max(std::max(fetch_cloud_volume(vol, far_point).y - tau.x, 0.0f),
+                                      twin::cloud_depth_beyond_side(march, exit, tau.y, tau.z));
+          m.terms[i] = glm::vec4(rho, tau);
+          m.tau_back[i] = back;
         }
     out[p].mips.push_back(std::move(m));
     while (out[p].mips.back().nx > 1 || out[p].mips.back().ny > 1 || out[p].mips.back().nz > 1)
@@ -191,6 +200,12 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
   for (size_t i = 0; i < boxes.size(); ++i) boxes[i] = instance_box(field, field.instances[i]);
   std::vector<Placed> placed(field.prototypes.size());
   std::vector<uint32_t> column;
+  struct Sums {  // one voxel of a column, over the instances covering it
+    float sigma = 0.0f, droplet = 0.0f;
+    glm::vec4 weighted{0.0f}, plain{0.0f};  // (tau_light, tau_up, tau_down, tau_back)
+    int n = 0;
+  };
+  std::vector<Sums> sums;
   for (int l = 0; l < n_levels; ++l) {
     ClipmapLevel L;
     L.voxel_m = std::ldexp(base, l);
@@ -212,6 +227,7 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
                             std::floor((centre.y - 0.5 * spec.size * v) / v) * v, lo.z - v);
     L.a.assign(static_cast<size_t>(L.nx) * L.ny * L.nz, glm::vec4(0.0f));
     L.b.assign(L.a.size(), glm::vec2(0.0f));
+    sums.assign(static_cast<size_t>(L.nz), Sums{});
     for (int y = 0; y < L.ny; ++y) {
       if (cancel && cancel->load(std::memory_order_relaxed)) return out;
       for (int x = 0; x < L.nx; ++x) {
@@ -241,11 +257,24 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
           const glm::dvec3 dq = c.index_from_enu[2] * v;
           for (int z = z_lo; z <= z_hi; ++z) {
             const Terms t = sample_mip(*c.mip, glm::vec3(q0 + dq * double(z - z_lo)));
-            if (t.a.x <= 0.0f) continue;
-            const size_t o = L.index(x, y, z);
-            L.a[o] += c.extinction * t.a;
-            L.b[o] += glm::vec2(c.extinction * t.back, c.extinction * c.droplet_um * t.a.x);
+            const float w = c.extinction * t.a.x;
+            Sums& u = sums[static_cast<size_t>(z)];
+            u.sigma += w;
+            u.weighted += w * glm::vec4(t.a.y, t.a.z, t.a.w, t.back);
+            u.plain += glm::vec4(t.a.y, t.a.z, t.a.w, t.back);
+            u.droplet += w * c.droplet_um;
+            ++u.n;
           }
+        }
+        // Overlapping instances: their depths weighted by density (plain where all are empty).
+        for (int z = 0; z < L.nz; ++z) {
+          Sums& u = sums[static_cast<size_t>(z)];
+          if (u.n == 0) continue;
+          const glm::vec4 tau = u.sigma > 0.0f ? u.weighted / u.sigma : u.plain / float(u.n);
+          const size_t o = L.index(x, y, z);
+          L.a[o] = glm::vec4(u.sigma, tau.x, tau.y, tau.z);
+          L.b[o] = glm::vec2(tau.w, u.droplet);
+          u = Sums{};
         }
       }
     }

@@ -2,14 +2,18 @@
 // layer march (shaders/clouds/cloud_layer_march.glsl): nested levels of one
 // lattice each, voxels doubling from level to level, so one march per pixel
 // through every layer costs steps, not clouds. Each level voxel holds what the
-// per-cloud march fetches, summed over the instances that cover it:
-//   a = (sigma_t, sigma_t tau_light, sigma_t tau_up, sigma_t tau_down)
-//   b = (sigma_t tau_back, sigma_t droplet_um)
-// premultiplied by the extinction (1/m), so trilinear filtering weighs each
-// instance's depths by its density and overlapping instances (a deck's tiles)
-// give the density-weighted mean of their depths; tau_back (the depth behind
-// the point away from the light) is taken per prototype voxel, as the march
-// computes it. Coarse levels sample box-filtered mips of the prototypes.
+// per-cloud march fetches, over the instances that cover it:
+//   a = (sigma_t, tau_light, tau_up, tau_down)
+//   b = (tau_back, sigma_t droplet_um)
+// sigma_t (1/m) summed; the depths of overlapping instances (a deck's tiles)
+// their density-weighted mean at the voxel (the plain mean where all are
+// empty), and interpolated between voxels as they are, as the per-cloud march
+// interpolates its grids (premultiplying them by the density, as before,
+// weighted the interpolation towards the dense voxel and lit the edges of
+// thin clouds too brightly: docs/CLOUDS.md); tau_back (the depth behind the
+// point away from the light) taken per prototype voxel, as the march computes
+// it. Coarse levels sample mips of the prototypes: the mean density, the
+// depths weighted by density.
 // Pure CPU, no GL; deterministic: a level's content is a function of the
 // field, its light grids and the eye's lattice cell (never of the history).
 #pragma once
@@ -42,8 +46,8 @@ struct ClipmapLevel {
   size_t index(int x, int y, int z) const { return (static_cast<size_t>(z) * ny + y) * nx + x; }
 };
 
-// A prototype's box-filtered mips of (density, tau_light, tau_up, tau_down)
-// and tau_back, level 0 the prototype itself: built per light direction.
+// A prototype's mips of (density, tau_light, tau_up, tau_down) and tau_back
+// (above), level 0 the prototype itself: built per light direction.
 struct PrototypeMips {
   struct Mip {
     int nx = 0, ny = 0, nz = 0;
