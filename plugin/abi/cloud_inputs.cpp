@@ -370,7 +370,7 @@ bool update_cloud_shadow(ContextClouds* c) {
     ++c->shadow_version;
     return true;
   }
-  c->shadow = make_shadow_map(c->full_lit ? c->field : c->draft, c->lit_direction_enu);
+  c->shadow = make_shadow_map(c->field, c->lit_direction_enu);  // lit in full: a draft's job brings its map
   ++c->shadow_version;
   return true;
 }
@@ -386,24 +386,26 @@ bool update_clipmap(ContextClouds* c, const glm::dvec3& eye) {
     c->clipmap_geometry = clouds::clipmap_geometry(source, c->clipmap_spec);
     c->mips_version = c->version;
   }
+  auto install = [c](clouds::CloudClipmap clipmap, uint64_t built_for, double ms) {
+    c->clipmap = std::move(clipmap);
+    c->clipmap_built_for = built_for;
+    c->clipmap_ms = ms;
+    ++c->clipmap_version;
+  };
   bool changed = false;
   if (c->clipmap_job.job && (c->clipmap_job.job->done() || c->settings.wait || c->clipmap.levels.empty())) {
-    c->clipmap_job.job->wait();
-    c->clipmap = c->clipmap_job.job->take();
-    c->clipmap_built_for = c->clipmap_job.job->built_for();
-    c->clipmap_ms = c->clipmap_job.job->elapsed_ms();
+    CloudClipmapJob& job = *c->clipmap_job.job;
+    job.wait();
+    install(job.take(), job.built_for(), job.elapsed_ms());
     c->clipmap_job.reset();
-    ++c->clipmap_version;
     changed = true;
   }
   const glm::ivec2 cell = clouds::clipmap_cell(c->clipmap_geometry, eye);
   if (c->clipmap_built_for == c->version && !c->clipmap.levels.empty() && c->clipmap.cell == cell) return changed;
   if (c->clipmap_job.job) return changed;  // one at a time: the next starts after it
   if (c->clipmap.levels.empty() || c->settings.wait) {  // nothing to draw yet, or asked to wait: now
-    c->clipmap = clouds::build_clipmap(source, *c->mips, c->ray_index, c->clipmap_spec, c->clipmap_geometry, cell);
-    c->clipmap_built_for = c->version;
-    ++c->clipmap_version;
-    c->clipmap_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    install(clouds::build_clipmap(source, *c->mips, c->ray_index, c->clipmap_spec, c->clipmap_geometry, cell),
+            c->version, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     return true;
   }
   ClipmapRequest r;  // the old clipmap is drawn until the worker's is ready

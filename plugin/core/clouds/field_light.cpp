@@ -181,6 +181,13 @@ FieldNeighbours field_neighbours(const CloudField& field, const CloudRayIndex& i
 
 namespace {
 
+// The prototype's sole instance (-1: none or several), from the neighbours when given.
+int sole_of(const CloudField& field, int prototype, const FieldNeighbours* neighbours) {
+  if (neighbours && prototype >= 0 && prototype < static_cast<int>(neighbours->sole.size()))
+    return neighbours->sole[static_cast<size_t>(prototype)];
+  return sole_instance(field, prototype);
+}
+
 // The instances a search over the ENU rectangle [lo, hi] must look at: those
 // near it (with neighbours), else every one.
 void candidates(const CloudField& field, const FieldNeighbours* neighbours, const glm::dvec2& lo, const glm::dvec2& hi,
@@ -197,9 +204,7 @@ void candidates(const CloudField& field, const FieldNeighbours* neighbours, cons
 
 ContinuingSides continuing_sides(const CloudField& field, int prototype, const FieldNeighbours* neighbours) {
   ContinuingSides sides;
-  const int self = neighbours && prototype >= 0 && prototype < static_cast<int>(neighbours->sole.size())
-                       ? neighbours->sole[static_cast<size_t>(prototype)]
-                       : sole_instance(field, prototype);
+  const int self = sole_of(field, prototype, neighbours);
   if (self < 0) return sides;
   const CloudVolume& vol = field.prototypes[static_cast<size_t>(prototype)];
   if (vol.density.empty()) return sides;
@@ -244,9 +249,7 @@ FieldLightPlan plan_field_light(const CloudField& field, int prototype, const gl
   if (prototype < 0 || prototype >= static_cast<int>(field.prototypes.size())) return plan;
   // A shared grid serves copies in different neighbourhoods: it cannot hold
   // one copy's shadow, so shared prototypes keep their own tau_light only.
-  const int self = neighbours && prototype < static_cast<int>(neighbours->sole.size())
-                       ? neighbours->sole[static_cast<size_t>(prototype)]
-                       : sole_instance(field, prototype);
+  const int self = sole_of(field, prototype, neighbours);
   if (self < 0) return plan;
   const CloudVolume& vol = field.prototypes[prototype];
   if (vol.density.empty()) return plan;
