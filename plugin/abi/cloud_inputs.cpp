@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 #include "abi/objects.h"
 #include "abi/scene_inputs.h"
@@ -20,6 +21,8 @@ namespace {
 
 // The draft's hemispherical depths: half the directions (a draft is blurred anyway).
 constexpr int kDraftAmbientDirections = clouds::kAmbientDirections / 2;
+// The streamed set-up's decks: first with this many times fewer voxels along each axis.
+constexpr int kCoarseDeckFactor = 2;
 
 std::string layer_name(uint32_t i) { return "AtmoCloudsState.layers[" + std::to_string(i) + "]"; }
 
@@ -165,6 +168,17 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
   if (s.impostor_max_pixels_per_texel > 0.0) imp.max_pixels_per_texel = s.impostor_max_pixels_per_texel;
 
   Verdict result;
+  const bool stream = c.settings.layer && !c.settings.wait;
+  // The field job's recipe, layer by layer: a deck's spec, or a field as built here.
+  struct FieldPiece {
+    std::optional<clouds::CloudLayerSpec> generate;
+    AtmoCloudLayer optics;
+    clouds::CloudField ready;
+  };
+  std::vector<FieldPiece> pieces;
+  bool any_coarse = false;
+  for (const AtmoCloudLayer& l : layers)
+    if (stream && l.type != ATMO_CLOUD_VDB_FILE && clouds::is_deck(procedural_type(l.type))) any_coarse = true;
   for (uint32_t i = 0; i < s.layer_count; ++i) {
     const AtmoCloudLayer& l = layers[i];
     if (l.type == ATMO_CLOUD_VDB_FILE) {
@@ -197,6 +211,7 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
       clouds::CloudField f;
       f.instances.push_back({0, v.origin_enu_m});
       f.prototypes.push_back(std::move(v));
+      if (any_coarse) pieces.push_back({{}, {}, f});
       append_field(std::move(f), &c.field);
     } else {
       clouds::CloudLayerSpec spec;
@@ -207,12 +222,50 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
       spec.area_size_m = l.area_size_m > 0.0 ? l.area_size_m : 20000.0;
       spec.area_centre_enu_m = glm::dvec2(l.area_centre_enu_m[0], l.area_centre_enu_m[1]);
       spec.seed = l.seed ^ ctx.seed;
-      clouds::GeneratedLayer g = clouds::generate_cloud_layer(spec);
+      const bool coarse = any_coarse && clouds::is_deck(spec.type);
+      clouds::GeneratedLayer g =
+          clouds::generate_cloud_layer(coarse ? clouds::coarser_layer_spec(spec, kCoarseDeckFactor) : spec);
       for (clouds::CloudVolume& v : g.field.prototypes) apply_optics(l, &v);
+      if (coarse) {
+        AtmoCloudLayer optics = l;
+        optics.vdb_path = nullptr;  // the host's string is not kept
+        pieces.push_back({spec, optics, {}});
+      } else if (any_coarse) {
+        pieces.push_back({{}, {}, g.field});
+      }
       append_field(std::move(g.field), &c.field);
     }
   }
   if (!result.ok()) return result;  // all or nothing: the clouds stay as they were
+  index_field(&c);
+  // The full lighting waits for the first pass (and, streamed, for the
+  // worker); the streamed layer march's draft gets its ambient depths now.
+  if (stream) prepare_draft(&c);
+  c.version = out->version + 1;
+  c.field_version = c.version;
+  *out = std::move(c);  // (a move stops the jobs of both sides: the field job starts after it)
+  if (any_coarse)
+    out->field_job.job = std::make_unique<CloudFieldJob>([pieces = std::move(pieces)](const std::atomic<bool>& cancel) {
+      clouds::CloudField f;
+      for (const FieldPiece& piece : pieces) {
+        if (cancel.load(std::memory_order_relaxed)) return clouds::CloudField{};
+        if (!piece.generate) {
+          append_field(clouds::CloudField(piece.ready), &f);
+          continue;
+        }
+        clouds::GeneratedLayer g = clouds::generate_cloud_layer(*piece.generate, &cancel);
+        if (g.cancelled) return clouds::CloudField{};
+        for (clouds::CloudVolume& v : g.field.prototypes) apply_optics(piece.optics, &v);
+        append_field(std::move(g.field), &f);
+      }
+      return f;
+    });
+  return {};
+}
+
+void index_field(ContextClouds* out) {
+  ContextClouds& c = *out;
+  c.mean_centre_height_m = 0.0;
   for (const clouds::CloudInstance& i : c.field.instances)
     c.mean_centre_height_m += c.field.prototypes[static_cast<size_t>(i.prototype)].centre_at(i.origin_enu_m).z;
   c.mean_centre_height_m /= static_cast<double>(std::max<size_t>(1, c.field.instances.size()));
@@ -229,14 +282,8 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
   c.sides.resize(c.field.prototypes.size());
   for (size_t p = 0; p < c.field.prototypes.size(); ++p)
     c.sides[p] = clouds::continuing_sides(c.field, static_cast<int>(p), &neighbours);
-  // The full lighting waits for the first pass (and, streamed, for the
-  // worker); the streamed layer march's draft gets its ambient depths now.
-  if (c.settings.layer && !c.settings.wait) prepare_draft(&c);
-  c.version = out->version + 1;
-  c.field_version = c.version;
-  *out = std::move(c);
-  return {};
 }
+
 
 clouds::CloudLight cloud_light(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene) {
   const core::SkyLighting& sky = view_sky_lighting(ctx, view, scene);
@@ -322,6 +369,7 @@ clouds::ClipmapSpec draft_spec(const clouds::ClipmapSpec& full) {
 void prepare_draft(ContextClouds* c) {
   c->draft = {};
   c->draft_depths.clear();
+  c->draft_index = {};
   if (c->empty()) return;
   c->draft.instances = c->field.instances;
   c->draft.prototypes.reserve(c->field.prototypes.size());
@@ -332,20 +380,49 @@ void prepare_draft(ContextClouds* c) {
                                    p < c->sides.size() ? c->sides[p] : clouds::ContinuingSides{},
                                    kDraftAmbientDirections);
   }
+  c->draft_index = clouds::build_cloud_ray_index(c->draft);
 }
+
+namespace {
+
+// Swaps in the field job's full-resolution field (the coarse one's draft is
+// still drawn) and starts its first full lighting; true when it did.
+bool take_field(ContextClouds* c) {
+  if (!c->field_job.job || !c->field_job.job->done()) return false;
+  c->field_job.job->wait();
+  c->relight.reset();  // (none runs: the coarse field is never lit in full)
+  c->field = c->field_job.job->take();
+  c->field_ms = c->field_job.job->elapsed_ms();
+  c->field_job.reset();
+  index_field(c);
+  c->depths.clear();
+  c->full_lit = false;
+  // The draft is unchanged: its mips and clipmap stay current.
+  const bool mips_current = c->mips_version == c->version, clipmap_current = c->clipmap_built_for == c->version;
+  ++c->version;
+  ++c->field_version;
+  if (mips_current) c->mips_version = c->version;
+  if (clipmap_current) c->clipmap_built_for = c->version;
+  if (glm::length(c->lit_direction_enu) >= 0.5) start_relight(c, c->lit_direction_enu, true);
+  return true;
+}
+
+}  // namespace
 
 bool relight_clouds(ContextClouds* c, const glm::dvec3& light_dir) {
   if (c->empty()) return false;
-  bool changed = take_relight(c);
+  bool changed = take_field(c);
+  changed = take_relight(c) || changed;
   if (glm::length(c->lit_direction_enu) < 0.5) {  // never lit: nothing to draw until it is
     const auto t0 = std::chrono::steady_clock::now();
     if (!c->draft.prototypes.empty()) {
-      // Streamed: the draft now (its ambient depths came with set_clouds), the field on the worker.
+      // Streamed: the draft now (its ambient depths came with set_clouds), the
+      // field on the worker (once the field job, if any, has made it).
       for (size_t p = 0; p < c->draft.prototypes.size(); ++p)
         clouds::sweep_light_depths(c->draft.prototypes[p], light_dir, &c->draft_depths[p]);
       c->lit_direction_enu = light_dir;
       ++c->version;
-      start_relight(c, light_dir, true);
+      if (!c->field_job.job) start_relight(c, light_dir, true);
     } else {  // the other draw modes draw from the full grids: wait for them
       start_relight(c, light_dir, true);
       if (c->relight.job) c->relight.job->wait();
@@ -354,7 +431,7 @@ bool relight_clouds(ContextClouds* c, const glm::dvec3& light_dir) {
     c->relight_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return true;
   }
-  if (c->relight.job) return changed;  // one at a time: the next starts after it
+  if (c->relight.job || c->field_job.job) return changed;  // one at a time: the next starts after it
   if (glm::dot(c->lit_direction_enu, light_dir) >= std::cos(c->settings.light_threshold_rad)) return changed;
   start_relight(c, light_dir, false);
   return changed || c->settings.wait;
@@ -364,7 +441,7 @@ bool update_cloud_shadow(ContextClouds* c) {
   c->shadow_wanted = true;
   if (c->empty() || glm::length(c->lit_direction_enu) < 0.5) return false;
   if (c->shadow.size > 0 && c->shadow.light_direction_enu == c->lit_direction_enu) return false;
-  if (c->relight.job && c->relight.job->has_shadow()) {  // the worker brings it
+  if (!c->full_lit || (c->relight.job && c->relight.job->has_shadow())) {  // the worker brings it
     if (c->shadow.size > 0 || c->full_lit) return false;
     c->shadow = make_shadow_map(c->draft, c->lit_direction_enu, 64, 3.0f);  // meanwhile the draft's
     ++c->shadow_version;
@@ -379,6 +456,7 @@ bool update_clipmap(ContextClouds* c, const glm::dvec3& eye) {
   if (c->empty() || glm::length(c->lit_direction_enu) < 0.5) return false;
   const auto t0 = std::chrono::steady_clock::now();
   const clouds::CloudField& source = c->full_lit ? c->field : c->draft;
+  const clouds::CloudRayIndex& index = c->full_lit ? c->ray_index : c->draft_index;
   if (c->mips_version != c->version) {  // the light grids changed and no worker made their mips
     c->clipmap_spec = c->full_lit ? c->settings.clipmap : draft_spec(c->settings.clipmap);
     c->mips = std::make_shared<const std::vector<clouds::PrototypeMips>>(
@@ -404,14 +482,14 @@ bool update_clipmap(ContextClouds* c, const glm::dvec3& eye) {
   if (c->clipmap_built_for == c->version && !c->clipmap.levels.empty() && c->clipmap.cell == cell) return changed;
   if (c->clipmap_job.job) return changed;  // one at a time: the next starts after it
   if (c->clipmap.levels.empty() || c->settings.wait) {  // nothing to draw yet, or asked to wait: now
-    install(clouds::build_clipmap(source, *c->mips, c->ray_index, c->clipmap_spec, c->clipmap_geometry, cell),
+    install(clouds::build_clipmap(source, *c->mips, index, c->clipmap_spec, c->clipmap_geometry, cell),
             c->version, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     return true;
   }
   ClipmapRequest r;  // the old clipmap is drawn until the worker's is ready
   r.field = &source;
   r.mips = c->mips;
-  r.index = &c->ray_index;
+  r.index = &index;
   r.spec = c->clipmap_spec;
   r.geometry = c->clipmap_geometry;
   r.cell = cell;
@@ -422,11 +500,12 @@ bool update_clipmap(ContextClouds* c, const glm::dvec3& eye) {
 
 bool ContextClouds::settled() const {
   if (empty()) return true;
-  if (relight.job || clipmap_job.job || !full_lit) return false;
+  if (relight.job || clipmap_job.job || field_job.job || !full_lit) return false;
   return !settings.layer || (clipmap_built_for == version && !clipmap.levels.empty());
 }
 
 void wait_for_cloud_jobs(ContextClouds* c) {
+  if (c->field_job.job) c->field_job.job->wait();
   if (c->relight.job) c->relight.job->wait();
   if (c->clipmap_job.job) c->clipmap_job.job->wait();
 }

@@ -59,9 +59,14 @@ clouds::CloudViewCost layer_view_cost(const CloudSettings& settings, uint32_t qu
 // `draft` (the field at half resolution: its ambient depths in set_clouds,
 // its light, mips and clipmap on the first pass) while a worker lights the
 // field in full; `full_lit` says which one the mips and clipmap are made of.
+// Decks (stratus, overcast, cirrus: their generation is most of a large
+// set_clouds) are first generated with half as many voxels across, and
+// `field_job` generates them in full: the pass that finds it done swaps the
+// field in and starts its full lighting (the draft is drawn until then).
 struct ContextClouds {
   CloudRelightSlot relight;                  // first: see CloudJobSlot
   CloudClipmapSlot clipmap_job;
+  CloudFieldSlot field_job;
   clouds::CloudField field;
   clouds::CloudRayIndex ray_index;          // the field's instances in buckets (get_lighting's Sun and Moon)
   std::vector<clouds::ContinuingSides> sides;  // per prototype (core/clouds/field_light.h continuing_sides)
@@ -71,6 +76,8 @@ struct ContextClouds {
   bool full_lit = false;                    // depths hold the field's whole lighting (else only the draft's)
   clouds::CloudField draft;                 // the streamed layer march's first frames (else empty)
   std::vector<clouds::LightDepths> draft_depths;
+  clouds::CloudRayIndex draft_index;        // the draft's instances (the field's may be replaced under it)
+  double field_ms = 0.0;                    // the field job's generation, once it landed
   uint64_t version = 0;                      // bumps when the field or its light grids change (GL re-uploads)
   uint64_t field_version = 0;                // bumps when the field changes (set_clouds): impostors start over
   core::Geodetic origin;                     // the clouds' ENU frame
@@ -104,10 +111,11 @@ struct ContextClouds {
   ~ContextClouds() {  // the jobs before the field dies
     relight.reset();
     clipmap_job.reset();
+    field_job.reset();
   }
   bool empty() const { return field.instances.empty(); }
   bool relighting() const { return relight.job != nullptr; }
-  // Lit in full, its clipmap (layer march) for that light, no job running.
+  // Lit in full from the full-resolution field, its clipmap (layer march) for that light, no job running.
   bool settled() const;
 };
 
@@ -119,15 +127,21 @@ Verdict build_clouds(const AtmoCloudsState& state, const AtmoContext_T& context,
                      std::vector<std::string>* load_errors);
 
 // The streamed layer march's draft of the field (set_clouds calls it): the
-// prototypes at half resolution and their ambient depths.
+// prototypes at half resolution, their ambient depths and ray index.
 void prepare_draft(ContextClouds* clouds);
+
+// What set_clouds derives from the field: heights, ray index, each
+// prototype's continuing sides and sole instance (also when the field job's
+// field replaces the coarse one).
+void index_field(ContextClouds* clouds);
 
 // The light the clouds are lit by this frame (the Sun, or the Moon when it
 // outshines it), in the clouds' frame, with the sky and ground radiance.
 clouds::CloudLight cloud_light(AtmoContext_T* context, AtmoView_T* view, const core::Scene& scene);
 
 // Relights the clouds when the light moved beyond the threshold: the first
-// lighting at once (with a draft: the draft's, the field's on a worker),
+// lighting at once (with a draft: the draft's, the field's on a worker once
+// the field job, if any, has landed: this call swaps its field in),
 // later ones on a worker (abi/cloud_relight.h) whose grids are swapped in by
 // the first call after it ends (at once with settings.wait). Returns true
 // when the grids changed.

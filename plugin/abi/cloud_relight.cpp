@@ -96,4 +96,8 @@ CloudClipmapJob::CloudClipmapJob(ClipmapRequest request)
         clipmap_ = clouds::build_clipmap(*r.field, *r.mips, *r.index, r.spec, r.geometry, r.cell, &cancel);
       }) {}
 
+CloudFieldJob::CloudFieldJob(Build build)
+    : build_(std::move(build)),
+      thread_([this](const std::atomic<bool>& cancel) { field_ = build_(cancel); }) {}
+
 }  // namespace atmo::abi

@@ -3,7 +3,8 @@
 // worker thread recomputes every prototype's optical depths
 // (core/clouds/cloud_lighting) into its own copy of the light grids, with the
 // shadow map and the layer march's prototype mips; a clipmap job resamples
-// the field around the eye's new cell (core/clouds/cloud_clipmap). The host's
+// the field around the eye's new cell (core/clouds/cloud_clipmap); a field
+// job generates the streamed set-up's decks at full resolution. The host's
 // thread keeps drawing with what it has and swaps the new data in on the
 // first call after a job ends (abi/cloud_inputs), or waits for it
 // (ATMO_CLOUD_SETUP_WAIT).
@@ -120,6 +121,26 @@ class CloudClipmapJob {
   CloudWorkerThread thread_;  // last
 };
 
+// A field built on a worker: the streamed set-up's decks at full resolution
+// (set_clouds drew them coarse). `build` polls the flag and returns early
+// (an empty field) when it is raised.
+class CloudFieldJob {
+ public:
+  using Build = std::function<clouds::CloudField(const std::atomic<bool>& cancel)>;
+  explicit CloudFieldJob(Build build);
+  CloudFieldJob(const CloudFieldJob&) = delete;
+  CloudFieldJob& operator=(const CloudFieldJob&) = delete;
+  bool done() const { return thread_.done(); }
+  void wait() { thread_.wait(); }
+  clouds::CloudField take() { return std::move(field_); }  // after done()
+  double elapsed_ms() const { return thread_.elapsed_ms(); }
+
+ private:
+  Build build_;
+  clouds::CloudField field_;
+  CloudWorkerThread thread_;  // last
+};
+
 // Where an owner keeps a job, declared before the field the job reads: a
 // move (of the owner) cancels and joins the jobs on both sides before the
 // field moves, so no job ever reads a field that moved or died; the owner's
@@ -139,6 +160,7 @@ struct CloudJobSlot {
 };
 using CloudRelightSlot = CloudJobSlot<CloudRelightJob>;
 using CloudClipmapSlot = CloudJobSlot<CloudClipmapJob>;
+using CloudFieldSlot = CloudJobSlot<CloudFieldJob>;
 
 // The whole relight on the calling thread (the draft's lighting, and the
 // job's body): each grid's own optical depth to the light, then what the

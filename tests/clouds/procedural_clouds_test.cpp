@@ -5,6 +5,7 @@
 // tiles and the generation time.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -493,3 +494,36 @@ TEST(ProceduralCumulus, LargeAreasRepeatATileWithShiftedRows) {
 }
 
 }  // namespace
+
+// The streamed set-up's coarse decks: about twice the voxel edge (an eighth
+// of the voxels), the same layer (heights, area, coverage); cumulus as asked.
+TEST(ProceduralCoarse, CoarserDecksHaveAnEighthOfTheVoxelsAndTheSameCoverage) {
+  for (CloudLayerType type : {CloudLayerType::Stratus, CloudLayerType::Overcast, CloudLayerType::Cirrus}) {
+    const CloudLayerSpec s = type == CloudLayerType::Cirrus ? make_spec(type, 4, 8000, 9000, 30000, 5)
+                                                            : make_spec(type, 6, 800, 1300, 30000, 5);
+    const GeneratedLayer full = generate_cloud_layer(s), coarse = generate_cloud_layer(coarser_layer_spec(s, 2));
+    const double ratio = double(total_voxels(full.field)) / double(total_voxels(coarse.field));
+    const double edge = coarse.field.prototypes[0].voxel_size_m / full.field.prototypes[0].voxel_size_m;
+    std::printf("%s: %zu voxels of %.1f m, coarse %zu of %.1f m (%.1fx fewer); coverage %.3f, coarse %.3f\n",
+                cloud_layer_type_name(type), total_voxels(full.field), full.field.prototypes[0].voxel_size_m,
+                total_voxels(coarse.field), coarse.field.prototypes[0].voxel_size_m, ratio, full.coverage_fraction,
+                coarse.coverage_fraction);
+    EXPECT_GE(ratio, 6.0) << cloud_layer_type_name(type);
+    EXPECT_LE(ratio, 16.0) << cloud_layer_type_name(type);
+    EXPECT_GE(edge, 1.6) << cloud_layer_type_name(type);
+    EXPECT_NEAR(coarse.coverage_fraction, full.coverage_fraction, 0.05) << cloud_layer_type_name(type);
+    for (const CloudVolume& v : coarse.field.prototypes) EXPECT_LE(v.voxel_size_m, s.top_m - s.base_m);
+  }
+  const CloudLayerSpec cumulus = make_spec(CloudLayerType::Cumulus, 4, 1200, 2500, 10000, 5);
+  EXPECT_EQ(coarser_layer_spec(cumulus, 2).max_total_voxels, cumulus.max_total_voxels);
+}
+
+// A raised cancel flag stops a deck's generation: nothing is returned.
+TEST(ProceduralCoarse, CancelledGenerationReturnsNothing) {
+  const std::atomic<bool> raised{true};
+  const GeneratedLayer g = generate_cloud_layer(make_spec(CloudLayerType::Overcast, 8, 600, 1100, 20000, 3), &raised);
+  EXPECT_TRUE(g.cancelled);
+  EXPECT_TRUE(g.field.prototypes.empty());
+  const std::atomic<bool> lowered{false};
+  EXPECT_FALSE(generate_cloud_layer(make_spec(CloudLayerType::Overcast, 8, 600, 1100, 20000, 3), &lowered).cancelled);
+}

@@ -8,6 +8,7 @@
 // re-rendered; the budget and the camera-cut rule are checked through it.
 #include <glad/gl.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -264,20 +265,28 @@ TEST(CloudLayer, ViewOrderDoesNotChangePixels) {
 
 // ATMO_CLOUD_SETUP_STREAM through the ABI: the first frame after set_clouds
 // draws the draft (clouds, close to the full frame but not it); frames keep
-// coming while the workers light and resample the field in full, and at rest
-// the image ends bit for bit where a context that waited for everything is.
-TEST(CloudLayer, StreamedSetUpDrawsADraftFirstThenTheSameFrames) {
+// coming while the workers light and resample the field in full (a deck:
+// first generate it, set_clouds having made it coarse), and at rest the image
+// ends bit for bit where a context that waited for everything is.
+void expect_streamed_frames_end_as_waited(const AtmoCloudLayer& layer, double height_m, double pitch_deg,
+                                          bool deck) {
   Scene waited, streamed, clear;
+  waited.layer = streamed.layer = layer;
   waited.set_clouds(ATMO_CLOUD_DRAW_LAYER);
   atmo::support::Image full;
   for (int k = 0; k < 5; ++k) {  // 4 frames at rest: every pixel traced
     waited.next_frame();
-    full = waited.draw(0.0, 0.0, 1700.0);
+    full = waited.draw(0.0, 0.0, height_m, pitch_deg);
   }
-  const atmo::support::Image sky = clear.draw(0.0, 0.0, 1700.0);
+  const atmo::support::Image sky = clear.draw(0.0, 0.0, height_m, pitch_deg);
   streamed.setup = ATMO_CLOUD_SETUP_STREAM;
   streamed.set_clouds(ATMO_CLOUD_DRAW_LAYER);
-  const atmo::support::Image draft = streamed.draw(0.0, 0.0, 1700.0);
+  auto logged = [&](const char* what) {
+    return std::any_of(streamed.log.begin(), streamed.log.end(),
+                       [&](const std::string& l) { return l.find(what) != std::string::npos; });
+  };
+  EXPECT_EQ(logged("decks coarse: a worker generates them in full"), deck);
+  const atmo::support::Image draft = streamed.draw(0.0, 0.0, height_m, pitch_deg);
   const double draft_db = psnr(draft, full), sky_db = psnr(sky, full);
   std::printf("first streamed frame (the draft) against the full frame: PSNR %.2f dB (the sky alone: %.2f dB)\n",
               draft_db, sky_db);
@@ -290,10 +299,26 @@ TEST(CloudLayer, StreamedSetUpDrawsADraftFirstThenTheSameFrames) {
   for (; frames < 400 && max_abs > 0.0; ++frames) {  // the workers: seconds under ASan
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
     streamed.next_frame();
-    max_abs = atmo::support::compare_images(streamed.draw(0.0, 0.0, 1700.0), full, 1.0).max_abs;
+    max_abs = atmo::support::compare_images(streamed.draw(0.0, 0.0, height_m, pitch_deg), full, 1.0).max_abs;
   }
   std::printf("identical to the waited frame after %d more frames\n", frames);
   EXPECT_EQ(max_abs, 0.0);
+  EXPECT_EQ(logged("replaced their coarse first field"), deck);
+}
+
+TEST(CloudLayer, StreamedSetUpDrawsADraftFirstThenTheSameFrames) {
+  expect_streamed_frames_end_as_waited(Scene().layer, 1700.0, 2.0, false);
+}
+
+// A stratus deck from below: coarse at set_clouds, the full deck from the field job.
+TEST(CloudLayer, StreamedDeckIsCoarseFirstThenTheSameFrames) {
+  AtmoCloudLayer deck = Scene().layer;
+  deck.type = ATMO_CLOUD_STRATUS;
+  deck.coverage_oktas = 6;
+  deck.base_m = 800.0;
+  deck.top_m = 1300.0;
+  deck.area_size_m = 12000.0;
+  expect_streamed_frames_end_as_waited(deck, 300.0, 20.0, true);
 }
 
 // --- The temporal upsampling (the default ATMO_CLOUD_QUALITY_MEDIUM: a

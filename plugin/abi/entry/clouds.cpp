@@ -16,6 +16,23 @@
 
 namespace atmo::abi::entry {
 
+namespace {
+
+// relight_clouds, saying when the field job's decks land.
+void relight(AtmoContext_T* ctx, const glm::dvec3& light_direction_enu) {
+  ContextClouds& c = ctx->clouds;
+  const bool coarse = c.field_job.job != nullptr;
+  relight_clouds(&c, light_direction_enu);
+  if (coarse && !c.field_job.job && !c.empty())
+    ctx->services.log(ATMO_LOG_INFO, "clouds: the decks at full resolution (" +
+                                         std::to_string(c.field.memory_bytes() >> 20) + " MiB of density) replaced "
+                                         "their coarse first field, generated in " +
+                                         std::to_string(static_cast<int>(c.field_ms)) +
+                                         " ms on a worker; their full lighting follows");
+}
+
+}  // namespace
+
 AtmoResult set_clouds(AtmoContext context, const AtmoCloudsState* state) {
   return context_call(
       context, "set_clouds", state, ATMO_TYPE_CLOUDS_STATE, "AtmoCloudsState",
@@ -28,7 +45,10 @@ AtmoResult set_clouds(AtmoContext context, const AtmoCloudsState* state) {
         const clouds::CloudField& f = ctx->clouds.field;
         ctx->services.log(ATMO_LOG_INFO, "clouds: " + std::to_string(f.instances.size()) + " clouds from " +
                                              std::to_string(f.prototypes.size()) + " volumes, " +
-                                             std::to_string(f.memory_bytes() >> 20) + " MiB of density");
+                                             std::to_string(f.memory_bytes() >> 20) + " MiB of density" +
+                                             (ctx->clouds.field_job.job
+                                                  ? " (decks coarse: a worker generates them in full)"
+                                                  : ""));
         return ATMO_SUCCESS;
       });
 }
@@ -37,7 +57,7 @@ AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& 
   ContextClouds& c = ctx->clouds;
   gl::CloudFrameInputs frame;
   frame.light = cloud_light(ctx, view, scene);
-  relight_clouds(&c, frame.light.direction_enu);
+  relight(ctx, frame.light.direction_enu);
   frame.field = &c.field;
   frame.depths = &c.depths;
   frame.version = c.version;
@@ -96,7 +116,7 @@ AtmoResult get_cloud_shadows(AtmoView view_handle, AtmoCloudShadows* out) {
         ContextClouds& c = ctx->clouds;
         if (!c.empty()) {
           const core::Scene scene = prepare_scene(ctx, *view);
-          relight_clouds(&c, cloud_light(ctx, view, scene).direction_enu);
+          relight(ctx, cloud_light(ctx, view, scene).direction_enu);
           update_cloud_shadow(&c);
           GLuint texture = 0;
           std::string error;
@@ -135,7 +155,7 @@ bool add_cloud_shadow(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& s
   const glm::dvec3 light = cloud_light(ctx, view, scene).direction_enu;
   const glm::dmat3 clouds_from_eye_axes = cloud_enu_from_eye_enu(c, view->eye.ecef_from_enu);
   if (glm::dot(clouds_from_eye_axes * scene.sun_direction_enu, light) < std::cos(0.5 * M_PI / 180.0)) return true;
-  relight_clouds(&c, light);
+  relight(ctx, light);
   update_cloud_shadow(&c);
   GLuint texture = 0;
   if (!ctx->cloud_renderer.shadow_texture(c.shadow, c.field_version, c.shadow_version, &texture, error)) return false;

@@ -1,6 +1,7 @@
 #include "core/clouds/procedural_clouds.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -560,39 +561,62 @@ class DeckModel {
   double cos_ = 1, sin_ = 0;
 };
 
-void generate_deck(const CloudLayerSpec& spec, int oktas, uint64_t seed, GeneratedLayer* out) {
+// A deck's voxels: cubic, whole layers filling exactly [base, top], ~3 km
+// tiles; coarsened (fewer layers, then wider) until the budget holds.
+struct DeckPlan {
+  double v = 0, v_wanted = 0;  // the voxel edge, and the one the type asks (m)
+  int layers = 0;              // through the deck
+  double voxels = 0, needed = 0;  // with the tiles' borders: planned, and at v_wanted
+};
+
+int deck_tile_voxels(double v) { return std::clamp(static_cast<int>(std::lround(3000.0 / v)), 16, 126); }
+
+DeckPlan plan_deck(const CloudLayerSpec& spec) {
+  const double depth = spec.top_m - spec.base_m, area = spec.area_size_m;
+  // Stratus/overcast: 40-80 m, >= 6 through the deck by default (never fewer
+  // than 4); cirrus: 40-80 m, ~16 through the layer so a sheet of 8-28 % of
+  // the depth keeps a few voxels.
+  double v_target = spec.type == CloudLayerType::Cirrus ? std::clamp(depth / 16.0, 40.0, 80.0)
+                                                        : std::clamp(depth / 6.0, 40.0, 80.0);
+  if (spec.max_voxel_size_m > 0) v_target = std::min(v_target, double(spec.max_voxel_size_m));
+  DeckPlan p;
+  p.layers = std::max(4, static_cast<int>(std::ceil(depth / v_target - 1e-9)));
+  p.v = p.v_wanted = depth / p.layers;
+  // Tiles of 16-126 interior voxels: small enough to light per tile, large enough that there are not thousands.
+  auto voxels = [&](double vv, int nl) {
+    const double n = std::ceil(area / vv - 1e-3);
+    const double tiles = std::max(1.0, std::round(n / deck_tile_voxels(vv)));
+    return (n + 2.0 * tiles) * (n + 2.0 * tiles) * (nl + 2.0);
+  };
+  p.needed = voxels(p.v, p.layers);
+  while (voxels(p.v, p.layers) > double(spec.max_total_voxels)) {
+    if (p.layers > 1) {
+      --p.layers;
+      p.v = depth / p.layers;
+    } else {
+      p.v *= 1.1;  // one layer thicker than the deck: the grid top passes top_m by < one voxel
+    }
+  }
+  p.voxels = voxels(p.v, p.layers);
+  return p;
+}
+
+// Thrown out of a generation whose cancel flag was raised (caught by generate_cloud_layer's caller).
+struct GenerationCancelled {};
+
+bool cancelled(const std::atomic<bool>* cancel) { return cancel && cancel->load(std::memory_order_relaxed); }
+
+void generate_deck(const CloudLayerSpec& spec, int oktas, uint64_t seed, GeneratedLayer* out,
+                   const std::atomic<bool>* cancel) {
   const CloudLayerType type = spec.type;
   const double depth = spec.top_m - spec.base_m;
   const double area = spec.area_size_m;
-  // Cubic voxels. Stratus/overcast: 40-80 m, >= 6 through the deck by
-  // default (never fewer than 4); cirrus: 40-80 m, ~16 through the layer so a
-  // sheet of 8-28 % of the depth keeps a few voxels. Whole voxels fill
-  // exactly [base, top].
-  double v_target = type == CloudLayerType::Cirrus ? std::clamp(depth / 16.0, 40.0, 80.0)
-                                                   : std::clamp(depth / 6.0, 40.0, 80.0);
-  if (spec.max_voxel_size_m > 0) v_target = std::min(v_target, double(spec.max_voxel_size_m));
-  int layers = std::max(4, static_cast<int>(std::ceil(depth / v_target - 1e-9)));
-  double v = depth / layers;
-  // Tiles ~3 km (16-126 interior voxels): small enough to light per tile,
-  // large enough that there are not thousands.
-  auto tile_voxels = [](double vv) { return std::clamp(static_cast<int>(std::lround(3000.0 / vv)), 16, 126); };
-  auto voxels = [&](double vv, int nl) {
-    const double n = std::ceil(area / vv - 1e-3);
-    const double tiles = std::max(1.0, std::round(n / tile_voxels(vv)));
-    return (n + 2.0 * tiles) * (n + 2.0 * tiles) * (nl + 2.0);
-  };
-  const double v_wanted = v, needed = voxels(v, layers);
-  while (voxels(v, layers) > double(spec.max_total_voxels)) {
-    if (layers > 1) {
-      --layers;
-      v = depth / layers;
-    } else {
-      v *= 1.1;  // one layer thicker than the deck: the grid top passes top_m by < one voxel
-    }
-  }
-  if (v > v_wanted)
+  const DeckPlan plan = plan_deck(spec);
+  int layers = plan.layers;
+  double v = plan.v;
+  if (v > plan.v_wanted)
     out->notes.push_back(format("voxels coarsened from %.1f m to %.1f m to fit max_total_voxels = %zu (%.0f needed)",
-                                v_wanted, v, spec.max_total_voxels, needed));
+                                plan.v_wanted, v, spec.max_total_voxels, plan.needed));
   // The voxel is stored as float: round it down so whole layers never pass top_m.
   {
     float vf = static_cast<float>(v);
@@ -606,7 +630,7 @@ void generate_deck(const CloudLayerSpec& spec, int oktas, uint64_t seed, Generat
   const int n = static_cast<int>(std::ceil(area / v - 1e-3));
   // Tiles of nt voxels; the last takes the remainder (0.5-1.5 nt), so no
   // tile is so thin that its overhang exceeds its half width.
-  const int nt = tile_voxels(v);
+  const int nt = deck_tile_voxels(v);
   const int tiles = std::max(1, static_cast<int>(std::lround(double(n) / nt)));
   auto tile_size = [&](int t) { return t == tiles - 1 ? n - t * nt : nt; };
   const int n_in = std::max(1, static_cast<int>(std::ceil(area / v - 0.5)));  // columns whose centre is in the area
@@ -620,6 +644,7 @@ void generate_deck(const CloudLayerSpec& spec, int oktas, uint64_t seed, Generat
   std::vector<CloudVolume> vols;
   for (int ty = 0; ty < tiles; ++ty)
     for (int tx = 0; tx < tiles; ++tx) {
+      if (tx == 0 && cancelled(cancel)) throw GenerationCancelled{};
       const int sx = tile_size(tx), sy = tile_size(ty);
       CloudVolume vol;
       vol.name = format("%s tile %d,%d", cloud_layer_type_name(type), tx, ty);
@@ -663,6 +688,7 @@ void generate_deck(const CloudLayerSpec& spec, int oktas, uint64_t seed, Generat
   if (oktas < 8) {
     float lo = *std::min_element(m.begin(), m.end()) - 2 * e, hi = *std::max_element(m.begin(), m.end()) + 2 * e;
     for (int it = 0; it < 40; ++it) {
+      if (cancelled(cancel)) throw GenerationCancelled{};
       const float mid = 0.5f * (lo + hi);
       (coverage_at(mid) > want ? lo : hi) = mid;
     }
@@ -715,7 +741,7 @@ const char* cloud_layer_type_name(CloudLayerType t) {
   return "unknown";
 }
 
-GeneratedLayer generate_cloud_layer(const CloudLayerSpec& spec) {
+GeneratedLayer generate_cloud_layer(const CloudLayerSpec& spec, const std::atomic<bool>* cancel) {
   validate(spec);
   GeneratedLayer out;
   out.coverage_fraction = 0.0;
@@ -725,21 +751,37 @@ GeneratedLayer generate_cloud_layer(const CloudLayerSpec& spec) {
   }
   // One stream per type, so the same seed gives unrelated layers of different types.
   const uint64_t seed = noise::derive_seed(spec.seed, 1000 + static_cast<uint64_t>(spec.type));
-  switch (spec.type) {
-    case CloudLayerType::Cumulus:
-      generate_cumulus(spec, seed, &out);
-      break;
-    case CloudLayerType::Overcast:
-      if (spec.coverage_oktas != 8)
-        out.notes.push_back(format("overcast is 8 oktas (the spec asked %d)", spec.coverage_oktas));
-      generate_deck(spec, 8, seed, &out);
-      break;
-    case CloudLayerType::Stratus:
-    case CloudLayerType::Cirrus:
-      generate_deck(spec, spec.coverage_oktas, seed, &out);
-      break;
+  try {
+    switch (spec.type) {
+      case CloudLayerType::Cumulus:
+        generate_cumulus(spec, seed, &out);
+        break;
+      case CloudLayerType::Overcast:
+        if (spec.coverage_oktas != 8)
+          out.notes.push_back(format("overcast is 8 oktas (the spec asked %d)", spec.coverage_oktas));
+        generate_deck(spec, 8, seed, &out, cancel);
+        break;
+      case CloudLayerType::Stratus:
+      case CloudLayerType::Cirrus:
+        generate_deck(spec, spec.coverage_oktas, seed, &out, cancel);
+        break;
+    }
+  } catch (const GenerationCancelled&) {
+    out = GeneratedLayer{};
+    out.cancelled = true;
   }
   return out;
+}
+
+bool is_deck(CloudLayerType t) { return t != CloudLayerType::Cumulus; }
+
+CloudLayerSpec coarser_layer_spec(const CloudLayerSpec& spec, int factor) {
+  validate(spec);
+  if (!is_deck(spec.type) || factor <= 1) return spec;
+  CloudLayerSpec coarse = spec;
+  const double f3 = double(factor) * factor * factor;
+  coarse.max_total_voxels = std::max<size_t>(1, static_cast<size_t>(plan_deck(spec).voxels / f3));
+  return coarse;
 }
 
 float field_density_at(const CloudField& field, const glm::dvec3& p_enu_m) {

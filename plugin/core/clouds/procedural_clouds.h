@@ -8,6 +8,7 @@
 // origin. Every grid leaves at least one voxel of zero density on each face.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -47,11 +48,23 @@ struct GeneratedLayer {
   // compare with oktas/8.
   double coverage_fraction = 0.0;
   std::vector<std::string> notes;  // what differs from the spec, and why (coarsened voxels, coverage not reached)
+  bool cancelled = false;          // stopped by the cancel flag: nothing else is set
 };
 
 // Throws std::invalid_argument naming the bad field (coverage_oktas out of
 // 0..8, top_m <= base_m, a non-finite number, area_size_m <= 0, ...).
-GeneratedLayer generate_cloud_layer(const CloudLayerSpec& spec);
+// `cancel` (decks only: cumulus is cheap) is polled between rows of tiles
+// and bisection steps; when it is raised the result is empty and `cancelled`.
+GeneratedLayer generate_cloud_layer(const CloudLayerSpec& spec, const std::atomic<bool>* cancel = nullptr);
+
+// Stratus, overcast and cirrus (tiles of a deck), not cumulus.
+bool is_deck(CloudLayerType type);
+
+// The spec of the same deck with `factor` times fewer voxels along each axis
+// (its budget cut to 1/factor^3 of what the spec plans; the generator then
+// takes fewer, thicker layers): the streamed set-up's quick first field.
+// Cumulus (whose generation is cheap) and factor <= 1: the spec unchanged.
+CloudLayerSpec coarser_layer_spec(const CloudLayerSpec& spec, int factor);
 
 const char* cloud_layer_type_name(CloudLayerType t);  // "cumulus", "stratus", "overcast", "cirrus"
 
