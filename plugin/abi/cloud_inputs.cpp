@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <optional>
+#include <thread>
 
 #include "abi/objects.h"
 #include "abi/scene_inputs.h"
@@ -21,6 +22,9 @@ namespace {
 
 // The draft's hemispherical depths: half the directions (a draft is blurred anyway).
 constexpr int kDraftAmbientDirections = clouds::kAmbientDirections / 2;
+// The threads a build that the host waits for shares (a worker's build takes one, niced).
+int waiting_threads() { return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 4u)); }
+
 // The streamed set-up's decks: first with this many times fewer voxels along each axis.
 constexpr int kCoarseDeckFactor = 2;
 
@@ -443,11 +447,12 @@ bool update_cloud_shadow(ContextClouds* c) {
   if (c->shadow.size > 0 && c->shadow.light_direction_enu == c->lit_direction_enu) return false;
   if (!c->full_lit || (c->relight.job && c->relight.job->has_shadow())) {  // the worker brings it
     if (c->shadow.size > 0 || c->full_lit) return false;
-    c->shadow = make_shadow_map(c->draft, c->lit_direction_enu, 64, 3.0f);  // meanwhile the draft's
+    c->shadow = make_shadow_map(c->draft, c->lit_direction_enu, 64, 3.0f, waiting_threads());  // meanwhile the draft's
     ++c->shadow_version;
     return true;
   }
-  c->shadow = make_shadow_map(c->field, c->lit_direction_enu);  // lit in full: a draft's job brings its map
+  // Lit in full (a draft's job brings its map): the host waits for this one.
+  c->shadow = make_shadow_map(c->field, c->lit_direction_enu, 256, 2.0f, waiting_threads());
   ++c->shadow_version;
   return true;
 }
@@ -482,8 +487,10 @@ bool update_clipmap(ContextClouds* c, const glm::dvec3& eye) {
   if (c->clipmap_built_for == c->version && !c->clipmap.levels.empty() && c->clipmap.cell == cell) return changed;
   if (c->clipmap_job.job) return changed;  // one at a time: the next starts after it
   if (c->clipmap.levels.empty() || c->settings.wait) {  // nothing to draw yet, or asked to wait: now
-    install(clouds::build_clipmap(source, *c->mips, index, c->clipmap_spec, c->clipmap_geometry, cell),
-            c->version, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    clouds::CloudClipmap built = clouds::build_clipmap(source, *c->mips, index, c->clipmap_spec, c->clipmap_geometry,
+                                                       cell, nullptr, waiting_threads());
+    install(std::move(built), c->version,
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     return true;
   }
   ClipmapRequest r;  // the old clipmap is drawn until the worker's is ready

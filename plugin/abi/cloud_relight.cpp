@@ -40,8 +40,8 @@ void relight_all(const clouds::CloudField& field, const glm::dvec3& dir, std::ve
 }
 
 clouds::CloudShadowMap make_shadow_map(const clouds::CloudField& field, const glm::dvec3& dir, int texels,
-                                       float step_voxels) {
-  return clouds::compute_cloud_shadow_map(field, dir, texels, 100000.0, step_voxels);
+                                       float step_voxels, int threads) {
+  return clouds::compute_cloud_shadow_map(field, dir, texels, 100000.0, step_voxels, threads);
 }
 
 CloudWorkerThread::CloudWorkerThread(Body body)

@@ -172,6 +172,6 @@ void relight_all(const clouds::CloudField& field, const glm::dvec3& light_direct
 
 // The plugin's shadow map of the clouds for a light (`texels`^2, steps of `step_voxels`).
 clouds::CloudShadowMap make_shadow_map(const clouds::CloudField& field, const glm::dvec3& light_direction_enu,
-                                       int texels = 256, float step_voxels = 2.0f);
+                                       int texels = 256, float step_voxels = 2.0f, int threads = 1);
 
 }  // namespace atmo::abi

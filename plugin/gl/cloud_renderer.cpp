@@ -365,8 +365,8 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
   if (!init(error)) return false;
   guard.use_single_draw_buffer();
   const std::vector<clouds::CloudInstance>& instances = frame.field->instances;
-  if (frame.field_version != impostor_field_version_ || impostor_of_.size() != instances.size() ||
-      impostors_.tile_texels() != frame.impostors.tile_texels) {
+  if (!frame.layer && (frame.field_version != impostor_field_version_ || impostor_of_.size() != instances.size() ||
+                       impostors_.tile_texels() != frame.impostors.tile_texels)) {  // (the layer march has none)
     impostors_.reset(frame.impostors.tile_texels);
     impostor_of_.assign(instances.size(), Impostor{});
     impostor_field_version_ = frame.field_version;

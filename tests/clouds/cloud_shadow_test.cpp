@@ -117,6 +117,20 @@ TEST(CloudShadow, AnOvercastDeckShadowsTheGround) {
   EXPECT_GE(t, 0.0);
 }
 
+// Rows shared among threads (the maps a host waits for): the same map.
+TEST(CloudShadow, ThreadsGiveTheSameMap) {
+  const CloudField f = cumulus_field();
+  const CloudShadowMap one = compute_cloud_shadow_map(f, light(20.0, 150.0), 96);
+  for (int threads : {2, 3, 200}) {
+    const CloudShadowMap many = compute_cloud_shadow_map(f, light(20.0, 150.0), 96, 1e5, 1.0f, threads);
+    EXPECT_EQ(many.transmittance, one.transmittance) << threads << " threads";
+    EXPECT_EQ(many.corner_enu_m, one.corner_enu_m);
+  }
+  double shaded = 0.0;
+  for (float t : one.transmittance) shaded += 1.0 - t;
+  EXPECT_GT(shaded, 1.0);  // the map holds shadows (the comparison compares something)
+}
+
 // The sky passes' lookup (functions.glsl cloud_shadowing_at, its C++ twin)
 // through cloud_shadow_uvz_from, for points given relative to an eye in a
 // turned and shifted frame, against sample_cloud_shadow at the same points in

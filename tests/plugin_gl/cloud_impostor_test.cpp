@@ -321,6 +321,22 @@ TEST(CloudLayer, StreamedDeckIsCoarseFirstThenTheSameFrames) {
   expect_streamed_frames_end_as_waited(deck, 300.0, 20.0, true);
 }
 
+// set_clouds again, and destroying the context, while a deck's field job
+// runs: the job is cancelled and joined (ASan/UBSan run this too), and the
+// new clouds draw.
+TEST(CloudLayer, ReplacingAStreamedDeckStopsItsFieldJob) {
+  Scene s;
+  s.layer.type = ATMO_CLOUD_OVERCAST;
+  s.layer.base_m = 600.0;
+  s.layer.top_m = 1100.0;
+  s.layer.area_size_m = 60000.0;
+  s.setup = ATMO_CLOUD_SETUP_STREAM;
+  s.set_clouds(ATMO_CLOUD_DRAW_LAYER);
+  s.set_clouds(ATMO_CLOUD_DRAW_LAYER);
+  const atmo::support::Image frame = s.draw(0.0, 0.0, 300.0, 20.0);
+  EXPECT_LT(psnr(frame, Scene().draw(0.0, 0.0, 300.0, 20.0)), 30.0);  // the deck, not the clear sky
+}  // destroyed with the field job running
+
 // --- The temporal upsampling (the default ATMO_CLOUD_QUALITY_MEDIUM: a
 // quarter of the pixels traced a frame, the rest reprojected) ------------
 

@@ -1,6 +1,7 @@
 #include "core/clouds/cloud_clipmap.h"
 
 #include <algorithm>
+#include <thread>
 #include <cmath>
 #include <limits>
 
@@ -169,7 +170,7 @@ glm::ivec2 clipmap_cell(const ClipmapGeometry& g, const glm::dvec3& eye_m) {
 
 CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeMips>& mips,
                            const CloudRayIndex& index, const ClipmapSpec& spec, const ClipmapGeometry& geometry,
-                           const glm::ivec2& cell, const std::atomic<bool>* cancel) {
+                           const glm::ivec2& cell, const std::atomic<bool>* cancel, int threads) {
   CloudClipmap out;
   out.cell = cell;
   // The field's droplet diameters, ascending, at most the table's size.
@@ -199,13 +200,12 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
   std::vector<InstanceBox> boxes(field.instances.size());
   for (size_t i = 0; i < boxes.size(); ++i) boxes[i] = instance_box(field, field.instances[i]);
   std::vector<Placed> placed(field.prototypes.size());
-  std::vector<uint32_t> column;
   struct Sums {  // one voxel of a column, over the instances covering it
     float sigma = 0.0f, droplet = 0.0f;
     glm::vec4 weighted{0.0f}, plain{0.0f};  // (tau_light, tau_up, tau_down, tau_back)
     int n = 0;
   };
-  std::vector<Sums> sums;
+  const int workers = std::max(1, threads);
   for (int l = 0; l < n_levels; ++l) {
     ClipmapLevel L;
     L.voxel_m = std::ldexp(base, l);
@@ -227,57 +227,67 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
                             std::floor((centre.y - 0.5 * spec.size * v) / v) * v, lo.z - v);
     L.a.assign(static_cast<size_t>(L.nx) * L.ny * L.nz, glm::vec4(0.0f));
     L.b.assign(L.a.size(), glm::vec2(0.0f));
-    sums.assign(static_cast<size_t>(L.nz), Sums{});
-    for (int y = 0; y < L.ny; ++y) {
-      if (cancel && cancel->load(std::memory_order_relaxed)) return out;
-      for (int x = 0; x < L.nx; ++x) {
-        const glm::dvec2 p(L.origin_m.x + (x + 0.5) * v, L.origin_m.y + (y + 0.5) * v);
-        const int bx = static_cast<int>(std::floor((p.x - index.corner_enu_m.x) / index.cell_m));
-        const int by = static_cast<int>(std::floor((p.y - index.corner_enu_m.y) / index.cell_m));
-        if (bx < 0 || by < 0 || bx >= index.nx || by >= index.ny) continue;
-        // The instances whose box covers the column, give or take a voxel (trilinear reach).
-        column.clear();
-        const size_t bucket = static_cast<size_t>(by) * index.nx + bx;
-        for (uint32_t k = index.start[bucket]; k < index.start[bucket + 1]; ++k) {
-          const uint32_t i = index.items[k];
-          if (p.x >= boxes[i].lo.x - v && p.x <= boxes[i].hi.x + v && p.y >= boxes[i].lo.y - v &&
-              p.y <= boxes[i].hi.y + v)
-            column.push_back(i);
-        }
-        // Instance by instance over the voxels of its height range: along the
-        // column its index point moves by a constant step per voxel.
-        for (const uint32_t i : column) {
-          const Placed& c = placed[static_cast<size_t>(field.instances[i].prototype)];
-          const double z0 = boxes[i].lo.z - v, z1 = boxes[i].hi.z + v;
-          const int z_lo = std::max(0, static_cast<int>(std::ceil((z0 - L.origin_m.z) / v - 0.5)));
-          const int z_hi = std::min(L.nz - 1, static_cast<int>(std::floor((z1 - L.origin_m.z) / v - 0.5)));
-          if (z_lo > z_hi) continue;
-          const glm::dvec3 q0 =
-              c.index_from_enu * (glm::dvec3(p, L.origin_m.z + (z_lo + 0.5) * v) - field.instances[i].origin_enu_m);
-          const glm::dvec3 dq = c.index_from_enu[2] * v;
-          for (int z = z_lo; z <= z_hi; ++z) {
-            const Terms t = sample_mip(*c.mip, glm::vec3(q0 + dq * double(z - z_lo)));
-            const float w = c.extinction * t.a.x;
+    // Rows y0, y0 + stride, ...: each voxel is written by one thread, so the
+    // result does not depend on how many share the work.
+    auto fill_rows = [&](int y0, int stride) {
+      std::vector<uint32_t> column;
+      std::vector<Sums> sums(static_cast<size_t>(L.nz));
+      for (int y = y0; y < L.ny; y += stride) {
+        if (cancel && cancel->load(std::memory_order_relaxed)) return;
+        for (int x = 0; x < L.nx; ++x) {
+          const glm::dvec2 p(L.origin_m.x + (x + 0.5) * v, L.origin_m.y + (y + 0.5) * v);
+          const int bx = static_cast<int>(std::floor((p.x - index.corner_enu_m.x) / index.cell_m));
+          const int by = static_cast<int>(std::floor((p.y - index.corner_enu_m.y) / index.cell_m));
+          if (bx < 0 || by < 0 || bx >= index.nx || by >= index.ny) continue;
+          // The instances whose box covers the column, give or take a voxel (trilinear reach).
+          column.clear();
+          const size_t bucket = static_cast<size_t>(by) * index.nx + bx;
+          for (uint32_t k = index.start[bucket]; k < index.start[bucket + 1]; ++k) {
+            const uint32_t i = index.items[k];
+            if (p.x >= boxes[i].lo.x - v && p.x <= boxes[i].hi.x + v && p.y >= boxes[i].lo.y - v &&
+                p.y <= boxes[i].hi.y + v)
+              column.push_back(i);
+          }
+          // Instance by instance over the voxels of its height range: along the
+          // column its index point moves by a constant step per voxel.
+          for (const uint32_t i : column) {
+            const Placed& c = placed[static_cast<size_t>(field.instances[i].prototype)];
+            const double z0 = boxes[i].lo.z - v, z1 = boxes[i].hi.z + v;
+            const int z_lo = std::max(0, static_cast<int>(std::ceil((z0 - L.origin_m.z) / v - 0.5)));
+            const int z_hi = std::min(L.nz - 1, static_cast<int>(std::floor((z1 - L.origin_m.z) / v - 0.5)));
+            if (z_lo > z_hi) continue;
+            const glm::dvec3 q0 =
+                c.index_from_enu * (glm::dvec3(p, L.origin_m.z + (z_lo + 0.5) * v) - field.instances[i].origin_enu_m);
+            const glm::dvec3 dq = c.index_from_enu[2] * v;
+            for (int z = z_lo; z <= z_hi; ++z) {
+              const Terms t = sample_mip(*c.mip, glm::vec3(q0 + dq * double(z - z_lo)));
+              const float w = c.extinction * t.a.x;
+              Sums& u = sums[static_cast<size_t>(z)];
+              u.sigma += w;
+              u.weighted += w * glm::vec4(t.a.y, t.a.z, t.a.w, t.back);
+              u.plain += glm::vec4(t.a.y, t.a.z, t.a.w, t.back);
+              u.droplet += w * c.droplet_um;
+              ++u.n;
+            }
+          }
+          // Overlapping instances: their depths weighted by density (plain where all are empty).
+          for (int z = 0; z < L.nz; ++z) {
             Sums& u = sums[static_cast<size_t>(z)];
-            u.sigma += w;
-            u.weighted += w * glm::vec4(t.a.y, t.a.z, t.a.w, t.back);
-            u.plain += glm::vec4(t.a.y, t.a.z, t.a.w, t.back);
-            u.droplet += w * c.droplet_um;
-            ++u.n;
+            if (u.n == 0) continue;
+            const glm::vec4 tau = u.sigma > 0.0f ? u.weighted / u.sigma : u.plain / float(u.n);
+            const size_t o = L.index(x, y, z);
+            L.a[o] = glm::vec4(u.sigma, tau.x, tau.y, tau.z);
+            L.b[o] = glm::vec2(tau.w, u.droplet);
+            u = Sums{};
           }
         }
-        // Overlapping instances: their depths weighted by density (plain where all are empty).
-        for (int z = 0; z < L.nz; ++z) {
-          Sums& u = sums[static_cast<size_t>(z)];
-          if (u.n == 0) continue;
-          const glm::vec4 tau = u.sigma > 0.0f ? u.weighted / u.sigma : u.plain / float(u.n);
-          const size_t o = L.index(x, y, z);
-          L.a[o] = glm::vec4(u.sigma, tau.x, tau.y, tau.z);
-          L.b[o] = glm::vec2(tau.w, u.droplet);
-          u = Sums{};
-        }
       }
-    }
+    };
+    std::vector<std::thread> helpers;
+    for (int t = 1; t < workers; ++t) helpers.emplace_back(fill_rows, t, workers);
+    fill_rows(0, workers);
+    for (std::thread& h : helpers) h.join();
+    if (cancel && cancel->load(std::memory_order_relaxed)) return out;
     out.levels.push_back(std::move(L));
   }
   return out;

@@ -93,9 +93,11 @@ glm::ivec2 clipmap_cell(const ClipmapGeometry& geometry, const glm::dvec3& eye_m
 // the instances over a column, `geometry` is clipmap_geometry(field, spec).
 // O(levels x size^2 x nz x instances per bucket). Stops early (an unfinished
 // clipmap, to be thrown away) once *cancel is true (a worker's build).
+// `threads` share each level's rows (the caller's thread is one of them):
+// the result is the same for any count.
 CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeMips>& mips,
                            const CloudRayIndex& index, const ClipmapSpec& spec, const ClipmapGeometry& geometry,
-                           const glm::ivec2& cell, const std::atomic<bool>* cancel = nullptr);
+                           const glm::ivec2& cell, const std::atomic<bool>* cancel = nullptr, int threads = 1);
 
 // The march's volume on the CPU (cloud_layer_march.glsl's CLOUD_LAYER).
 struct CpuCloudLayer {

@@ -1,6 +1,7 @@
 #include "core/clouds/cloud_shadow.h"
 
 #include <algorithm>
+#include <thread>
 #include <cmath>
 #include <limits>
 
@@ -31,7 +32,7 @@ glm::dvec2 box_hit(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& s
 }  // namespace
 
 CloudShadowMap compute_cloud_shadow_map(const CloudField& field, const glm::dvec3& light, int size,
-                                        double max_extent_m, float step_voxels) {
+                                        double max_extent_m, float step_voxels, int threads) {
   CloudShadowMap map;
   map.light_direction_enu = light;
   if (field.instances.empty() || size <= 0) return map;
@@ -57,39 +58,49 @@ CloudShadowMap compute_cloud_shadow_map(const CloudField& field, const glm::dvec
   map.transmittance.assign(static_cast<size_t>(size) * size, 1.0f);
   if (low) return map;  // the light grazes: shadows longer than any map; left unshadowed
   std::vector<double> tau(map.transmittance.size(), 0.0);
-  for (const CloudInstance& inst : field.instances) {
-    const CloudVolume& v = field.prototypes[static_cast<size_t>(inst.prototype)];
-    const glm::dvec3 e = v.extent_m();
-    // The texels this box shades.
-    glm::dvec2 blo(std::numeric_limits<double>::infinity()), bhi(-std::numeric_limits<double>::infinity());
-    for (int c = 0; c < 8; ++c) {
-      const glm::dvec3 corner = inst.origin_enu_m + v.rotation * (e * glm::dvec3(c & 1, (c >> 1) & 1, (c >> 2) & 1));
-      const glm::dvec2 g(corner - slide * corner.z);
-      blo = glm::min(blo, g);
-      bhi = glm::max(bhi, g);
-    }
-    const int x0 = std::max(0, static_cast<int>(std::floor((blo.x - map.corner_enu_m.x) / map.texel_m)));
-    const int x1 = std::min(size - 1, static_cast<int>(std::floor((bhi.x - map.corner_enu_m.x) / map.texel_m)));
-    const int y0 = std::max(0, static_cast<int>(std::floor((blo.y - map.corner_enu_m.y) / map.texel_m)));
-    const int y1 = std::min(size - 1, static_cast<int>(std::floor((bhi.y - map.corner_enu_m.y) / map.texel_m)));
-    const glm::dquat to_grid = glm::conjugate(v.rotation);
-    const glm::dvec3 d = to_grid * light;  // unit, index space differs by the voxel size only
-    const glm::dvec3 grid_size(v.density.nx, v.density.ny, v.density.nz);
-    const double vox = v.voxel_size_m;
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) {
-        const glm::dvec3 g(map.corner_enu_m.x + (x + 0.5) * map.texel_m, map.corner_enu_m.y + (y + 0.5) * map.texel_m,
-                           0.0);
-        const glm::dvec3 o = (to_grid * (g - inst.origin_enu_m)) / vox;
-        const glm::dvec2 t = box_hit(o, d, grid_size);
-        if (!(t.x < t.y)) continue;
-        const int steps = std::max(1, static_cast<int>(std::ceil((t.y - t.x) / step_voxels)));
-        const double dt = (t.y - t.x) / steps;
-        double sum = 0.0;
-        for (int i = 0; i < steps; ++i) sum += v.density.sample(glm::vec3(o + d * (t.x + (i + 0.5) * dt)));
-        tau[static_cast<size_t>(y) * size + x] += sum * dt * vox * v.optics.extinction_per_m;
+  // Bands of rows, one per thread: each texel sums its instances in one
+  // order, so the map does not depend on the thread count.
+  const int bands = std::clamp(threads, 1, size);
+  auto fill_rows = [&](int band_lo, int band_hi) {
+    for (const CloudInstance& inst : field.instances) {
+      const CloudVolume& v = field.prototypes[static_cast<size_t>(inst.prototype)];
+      const glm::dvec3 e = v.extent_m();
+      // The texels this box shades.
+      glm::dvec2 blo(std::numeric_limits<double>::infinity()), bhi(-std::numeric_limits<double>::infinity());
+      for (int c = 0; c < 8; ++c) {
+        const glm::dvec3 corner = inst.origin_enu_m + v.rotation * (e * glm::dvec3(c & 1, (c >> 1) & 1, (c >> 2) & 1));
+        const glm::dvec2 g(corner - slide * corner.z);
+        blo = glm::min(blo, g);
+        bhi = glm::max(bhi, g);
       }
-  }
+      const int x0 = std::max(0, static_cast<int>(std::floor((blo.x - map.corner_enu_m.x) / map.texel_m)));
+      const int x1 = std::min(size - 1, static_cast<int>(std::floor((bhi.x - map.corner_enu_m.x) / map.texel_m)));
+      const int y0 = std::max(band_lo, static_cast<int>(std::floor((blo.y - map.corner_enu_m.y) / map.texel_m)));
+      const int y1 = std::min(band_hi - 1, static_cast<int>(std::floor((bhi.y - map.corner_enu_m.y) / map.texel_m)));
+      if (y0 > y1 || x0 > x1) continue;
+      const glm::dquat to_grid = glm::conjugate(v.rotation);
+      const glm::dvec3 d = to_grid * light;  // unit, index space differs by the voxel size only
+      const glm::dvec3 grid_size(v.density.nx, v.density.ny, v.density.nz);
+      const double vox = v.voxel_size_m;
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) {
+          const glm::dvec3 g(map.corner_enu_m.x + (x + 0.5) * map.texel_m,
+                             map.corner_enu_m.y + (y + 0.5) * map.texel_m, 0.0);
+          const glm::dvec3 o = (to_grid * (g - inst.origin_enu_m)) / vox;
+          const glm::dvec2 t = box_hit(o, d, grid_size);
+          if (!(t.x < t.y)) continue;
+          const int steps = std::max(1, static_cast<int>(std::ceil((t.y - t.x) / step_voxels)));
+          const double dt = (t.y - t.x) / steps;
+          double sum = 0.0;
+          for (int i = 0; i < steps; ++i) sum += v.density.sample(glm::vec3(o + d * (t.x + (i + 0.5) * dt)));
+          tau[static_cast<size_t>(y) * size + x] += sum * dt * vox * v.optics.extinction_per_m;
+        }
+    }
+  };
+  std::vector<std::thread> helpers;
+  for (int b = 1; b < bands; ++b) helpers.emplace_back(fill_rows, b * size / bands, (b + 1) * size / bands);
+  fill_rows(0, size / bands);
+  for (std::thread& h : helpers) h.join();
   for (size_t i = 0; i < tau.size(); ++i) map.transmittance[i] = static_cast<float>(std::exp(-tau[i]));
   return map;
 }

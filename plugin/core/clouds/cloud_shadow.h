@@ -28,8 +28,9 @@ struct CloudShadowMap {
 // clouds' shadows on z = 0, at most max_extent_m across (centred on the
 // shadows), size x size texels; each texel is one ray marched through every
 // cloud box it crosses (trilinear density, steps of `step_voxels`).
+// `threads` share the rows (the caller's is one); the map is the same for any count.
 CloudShadowMap compute_cloud_shadow_map(const CloudField& field, const glm::dvec3& light_direction_enu, int size = 256,
-                                        double max_extent_m = 100000.0, float step_voxels = 1.0f);
+                                        double max_extent_m = 100000.0, float step_voxels = 1.0f, int threads = 1);
 
 // The affine map from an ENU point (clouds' frame) to the map's (u, v) in
 // [0, 1]^2: rows 0 and 1 of the returned 4x4 (column-major, glm), rows 2
