@@ -165,6 +165,14 @@ int main(int argc, char** argv) {
       for (double sun : {60.0, 5.0}) {
         const double utc = utc_for_sun(host, c.cam, sun);
         host.set_utc(utc);
+        // A frame without clouds at this UTC, so the first frame below pays
+        // for the clouds' set-up only, not for the sky tables of a new Sun.
+        host.set_clouds(cloud_bench::clouds_state(nullptr, mode, setup));
+        host.set_view(c.cam);
+        host.target().bind();
+        host.pass_ms(ATMO_PASS_SKY);
+        host.pass_ms(ATMO_PASS_AERIAL_PERSPECTIVE);
+        host.next_frame();
         AtmoCloudLayer layer = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
         layer.type = c.type;
         layer.coverage_oktas = c.oktas;

@@ -13,6 +13,7 @@
 #include "abi/vdb_module_client.h"
 #include "core/atmosphere/shader_twin.h"
 #include "core/clouds/field_light.h"
+#include "core/clouds/parallel_bands.h"
 #include "core/clouds/procedural_clouds.h"
 #include "core/scene/scene.h"
 
@@ -227,8 +228,8 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
       spec.area_centre_enu_m = glm::dvec2(l.area_centre_enu_m[0], l.area_centre_enu_m[1]);
       spec.seed = l.seed ^ ctx.seed;
       const bool coarse = any_coarse && clouds::is_deck(spec.type);
-      clouds::GeneratedLayer g =
-          clouds::generate_cloud_layer(coarse ? clouds::coarser_layer_spec(spec, kCoarseDeckFactor) : spec);
+      clouds::GeneratedLayer g = clouds::generate_cloud_layer(
+          coarse ? clouds::coarser_layer_spec(spec, kCoarseDeckFactor) : spec, nullptr, waiting_threads());
       for (clouds::CloudVolume& v : g.field.prototypes) apply_optics(l, &v);
       if (coarse) {
         AtmoCloudLayer optics = l;
@@ -376,14 +377,17 @@ void prepare_draft(ContextClouds* c) {
   c->draft_index = {};
   if (c->empty()) return;
   c->draft.instances = c->field.instances;
-  c->draft.prototypes.reserve(c->field.prototypes.size());
-  c->draft_depths.resize(c->field.prototypes.size());
-  for (size_t p = 0; p < c->field.prototypes.size(); ++p) {
-    c->draft.prototypes.push_back(clouds::half_resolution(c->field.prototypes[p]));
-    clouds::compute_ambient_depths(c->draft.prototypes[p], &c->draft_depths[p],
-                                   p < c->sides.size() ? c->sides[p] : clouds::ContinuingSides{},
-                                   kDraftAmbientDirections);
-  }
+  const int n = static_cast<int>(c->field.prototypes.size());
+  c->draft.prototypes.resize(static_cast<size_t>(n));
+  c->draft_depths.resize(static_cast<size_t>(n));
+  clouds::for_bands(n, waiting_threads(), [c](int begin, int end) {  // one prototype a thread: any count
+    for (size_t p = static_cast<size_t>(begin); p < static_cast<size_t>(end); ++p) {
+      c->draft.prototypes[p] = clouds::half_resolution(c->field.prototypes[p]);
+      clouds::compute_ambient_depths(c->draft.prototypes[p], &c->draft_depths[p],
+                                     p < c->sides.size() ? c->sides[p] : clouds::ContinuingSides{},
+                                     kDraftAmbientDirections);
+    }
+  });
   c->draft_index = clouds::build_cloud_ray_index(c->draft);
 }
 

@@ -527,3 +527,31 @@ TEST(ProceduralCoarse, CancelledGenerationReturnsNothing) {
   const std::atomic<bool> lowered{false};
   EXPECT_FALSE(generate_cloud_layer(make_spec(CloudLayerType::Overcast, 8, 600, 1100, 20000, 3), &lowered).cancelled);
 }
+
+// generate_cloud_layer's `threads` share the work; the layer is bit-identical
+// for any count (determinism: a frame may not depend on thread timing).
+TEST(ProceduralThreads, AnyThreadCountGivesTheSameLayer) {
+  const CloudLayerSpec specs[] = {make_spec(CloudLayerType::Cumulus, 8, 1000, 2800, 20000, 3),
+                                  make_spec(CloudLayerType::Cumulus, 2, 1000, 2800, 60000, 5),
+                                  make_spec(CloudLayerType::Stratus, 6, 800, 1300, 30000, 3),
+                                  make_spec(CloudLayerType::Cirrus, 4, 8000, 9000, 30000, 7)};
+  for (const CloudLayerSpec& spec : specs) {
+    const GeneratedLayer one = generate_cloud_layer(spec, nullptr, 1);
+    const GeneratedLayer three = generate_cloud_layer(spec, nullptr, 3);
+    SCOPED_TRACE(cloud_layer_type_name(spec.type));
+    ASSERT_FALSE(one.field.prototypes.empty());
+    ASSERT_EQ(one.field.prototypes.size(), three.field.prototypes.size());
+    ASSERT_EQ(one.field.instances.size(), three.field.instances.size());
+    EXPECT_EQ(one.coverage_fraction, three.coverage_fraction);
+    for (size_t p = 0; p < one.field.prototypes.size(); ++p) {
+      const DenseGrid& a = one.field.prototypes[p].density;
+      const DenseGrid& b = three.field.prototypes[p].density;
+      ASSERT_EQ(a.values.size(), b.values.size()) << "prototype " << p;
+      ASSERT_EQ(0, std::memcmp(a.values.data(), b.values.data(), a.values.size() * sizeof(float))) << "prototype " << p;
+    }
+    for (size_t i = 0; i < one.field.instances.size(); ++i) {
+      ASSERT_EQ(one.field.instances[i].prototype, three.field.instances[i].prototype);
+      ASSERT_EQ(one.field.instances[i].origin_enu_m, three.field.instances[i].origin_enu_m);
+    }
+  }
+}

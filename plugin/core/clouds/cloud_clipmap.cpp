@@ -1,11 +1,11 @@
 #include "core/clouds/cloud_clipmap.h"
 
 #include <algorithm>
-#include <thread>
 #include <cmath>
 #include <limits>
 
 #include "core/clouds/cloud_optics.h"
+#include "core/clouds/parallel_bands.h"
 #include "core/clouds/cloud_twin.h"
 
 namespace atmo::clouds {
@@ -205,7 +205,6 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
     glm::vec4 weighted{0.0f}, plain{0.0f};  // (tau_light, tau_up, tau_down, tau_back)
     int n = 0;
   };
-  const int workers = std::max(1, threads);
   for (int l = 0; l < n_levels; ++l) {
     ClipmapLevel L;
     L.voxel_m = std::ldexp(base, l);
@@ -227,12 +226,12 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
                             std::floor((centre.y - 0.5 * spec.size * v) / v) * v, lo.z - v);
     L.a.assign(static_cast<size_t>(L.nx) * L.ny * L.nz, glm::vec4(0.0f));
     L.b.assign(L.a.size(), glm::vec2(0.0f));
-    // Rows y0, y0 + stride, ...: each voxel is written by one thread, so the
-    // result does not depend on how many share the work.
-    auto fill_rows = [&](int y0, int stride) {
+    // Bands of rows: each voxel is written by one thread, so the result does
+    // not depend on how many share the work.
+    for_bands(L.ny, threads, [&](int y_begin, int y_end) {
       std::vector<uint32_t> column;
       std::vector<Sums> sums(static_cast<size_t>(L.nz));
-      for (int y = y0; y < L.ny; y += stride) {
+      for (int y = y_begin; y < y_end; ++y) {
         if (cancel && cancel->load(std::memory_order_relaxed)) return;
         for (int x = 0; x < L.nx; ++x) {
           const glm::dvec2 p(L.origin_m.x + (x + 0.5) * v, L.origin_m.y + (y + 0.5) * v);
@@ -282,11 +281,7 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
           }
         }
       }
-    };
-    std::vector<std::thread> helpers;
-    for (int t = 1; t < workers; ++t) helpers.emplace_back(fill_rows, t, workers);
-    fill_rows(0, workers);
-    for (std::thread& h : helpers) h.join();
+    });
     if (cancel && cancel->load(std::memory_order_relaxed)) return out;
     out.levels.push_back(std::move(L));
   }

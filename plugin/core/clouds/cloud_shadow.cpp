@@ -1,11 +1,11 @@
 #include "core/clouds/cloud_shadow.h"
 
 #include <algorithm>
-#include <thread>
 #include <cmath>
 #include <limits>
 
 #include "core/clouds/cloud_lighting.h"
+#include "core/clouds/parallel_bands.h"
 
 namespace atmo::clouds {
 
@@ -60,8 +60,7 @@ CloudShadowMap compute_cloud_shadow_map(const CloudField& field, const glm::dvec
   std::vector<double> tau(map.transmittance.size(), 0.0);
   // Bands of rows, one per thread: each texel sums its instances in one
   // order, so the map does not depend on the thread count.
-  const int bands = std::clamp(threads, 1, size);
-  auto fill_rows = [&](int band_lo, int band_hi) {
+  for_bands(size, threads, [&](int band_lo, int band_hi) {
     for (const CloudInstance& inst : field.instances) {
       const CloudVolume& v = field.prototypes[static_cast<size_t>(inst.prototype)];
       const glm::dvec3 e = v.extent_m();
@@ -96,11 +95,7 @@ CloudShadowMap compute_cloud_shadow_map(const CloudField& field, const glm::dvec
           tau[static_cast<size_t>(y) * size + x] += sum * dt * vox * v.optics.extinction_per_m;
         }
     }
-  };
-  std::vector<std::thread> helpers;
-  for (int b = 1; b < bands; ++b) helpers.emplace_back(fill_rows, b * size / bands, (b + 1) * size / bands);
-  fill_rows(0, size / bands);
-  for (std::thread& h : helpers) h.join();
+  });
   for (size_t i = 0; i < tau.size(); ++i) map.transmittance[i] = static_cast<float>(std::exp(-tau[i]));
   return map;
 }

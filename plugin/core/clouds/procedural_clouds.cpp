@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/clouds/noise.h"
+#include "core/clouds/parallel_bands.h"
 
 namespace atmo::clouds {
 namespace {
@@ -204,8 +205,16 @@ CloudVolume build_cumulus(const CumulusPlan& p, float v, double depth_m, int ind
         // so nothing lies outside the blobs (and their bounding box).
         shape -= 0.0375f;
         if (shape <= 0.0f) continue;
+        // cells and waves lie in [0, 1]: where no noise can bring the shape
+        // below the soft edge the density is `vertical`, and the noise is
+        // skipped (the margins keep the result bit-identical).
+        if (shape - 1.01f * erosion >= 0.1f) {
+          vol.density.at(i, j, k) = vertical;
+          continue;
+        }
         const float cells = 0.7f * std::min(1.0f, noise::worley(x / lump, y / lump, z / lump, s_lump)) +
                             0.3f * std::min(1.0f, noise::worley(x / lump2, y / lump2, z / lump2, s_lump2));
+        if (shape - 0.75f * erosion * cells < -1e-4f) continue;  // empty whatever the waves
         const float waves = std::clamp(0.5f + noise::fbm(x / wave, y / wave, z / wave, 3, s_wave), 0.0f, 1.0f);
         const float raw = shape - erosion * (0.75f * cells + 0.25f * waves);
         if (raw <= 0.0f) continue;
@@ -249,17 +258,17 @@ Footprint footprint_of(const CloudVolume& vol) {
 // O(area) (a ground raster and darts), repeating them O(clouds).
 constexpr double kCumulusTileM = 40000.0;
 
-void generate_cumulus(const CloudLayerSpec& spec, uint64_t seed, GeneratedLayer* out);
+void generate_cumulus(const CloudLayerSpec& spec, uint64_t seed, GeneratedLayer* out, int threads);
 
 // The layer over spec's area as copies of one kCumulusTileM tile, each row of
 // tiles shifted east by its own random fraction of the tile (wrapped inside
 // it), so the copies do not line up into a lattice. Clouds whose footprint's
 // centre falls outside the area are dropped. The coverage is the tile's.
-void repeat_cumulus_tile(const CloudLayerSpec& spec, uint64_t seed, GeneratedLayer* out) {
+void repeat_cumulus_tile(const CloudLayerSpec& spec, uint64_t seed, GeneratedLayer* out, int threads) {
   CloudLayerSpec tile = spec;
   tile.area_size_m = kCumulusTileM;
   GeneratedLayer t;
-  generate_cumulus(tile, seed, &t);
+  generate_cumulus(tile, seed, &t, threads);
   const double T = kCumulusTileM, A = spec.area_size_m;
   const glm::dvec2 tile_min = spec.area_centre_enu_m - 0.5 * T, amin = spec.area_centre_enu_m - 0.5 * A;
   const int n = static_cast<int>(std::ceil(A / T - 1e-9));
@@ -285,9 +294,9 @@ void repeat_cumulus_tile(const CloudLayerSpec& spec, uint64_t seed, GeneratedLay
                               T / 1000.0, t.field.instances.size(), A / 1000.0));
 }
 
-void generate_cumulus(const CloudLayerSpec& spec, uint64_t seed, GeneratedLayer* out) {
+void generate_cumulus(const CloudLayerSpec& spec, uint64_t seed, GeneratedLayer* out, int threads) {
   if (spec.area_size_m > kCumulusTileM) {
-    repeat_cumulus_tile(spec, seed, out);
+    repeat_cumulus_tile(spec, seed, out, threads);
     return;
   }
   const double depth = spec.top_m - spec.base_m;
@@ -322,8 +331,12 @@ void generate_cumulus(const CloudLayerSpec& spec, uint64_t seed, GeneratedLayer*
 
   const glm::dvec2 amin = spec.area_centre_enu_m - 0.5 * area;
   std::vector<Footprint> prints;
+  std::vector<CloudVolume> built(static_cast<size_t>(n_proto));  // each its own seed: any thread count
+  for_bands(n_proto, threads, [&](int begin, int end) {
+    for (int i = begin; i < end; ++i) built[size_t(i)] = build_cumulus(plans[size_t(i)], static_cast<float>(v), depth, i);
+  });
   for (int i = 0; i < n_proto; ++i) {
-    CloudVolume vol = build_cumulus(plans[i], static_cast<float>(v), depth, i);
+    CloudVolume vol = std::move(built[size_t(i)]);
     vol.optics = optics_for(CloudLayerType::Cumulus);
     // The prototype's own placement (instances replace it): centred on the area.
     vol.origin_enu_m = glm::dvec3(spec.area_centre_enu_m.x - 0.5 * vol.extent_m().x,
@@ -345,6 +358,15 @@ void generate_cumulus(const CloudLayerSpec& spec, uint64_t seed, GeneratedLayer*
   const double c = area / nc;
   std::vector<uint8_t> ground(size_t(nc) * nc, 0);
   const size_t total_cells = ground.size();
+  // Uncovered cells per 16x16 block: a stamp skips the covered blocks (late
+  // darts of a dense layer land almost only on cloud).
+  constexpr int kBlock = 16;
+  const int nbk = (nc + kBlock - 1) / kBlock;
+  std::vector<int> block_free(size_t(nbk) * nbk);
+  for (int bj = 0; bj < nbk; ++bj)
+    for (int bi = 0; bi < nbk; ++bi)
+      block_free[size_t(bj) * nbk + bi] = (std::min(nc, (bi + 1) * kBlock) - bi * kBlock) *
+                                          (std::min(nc, (bj + 1) * kBlock) - bj * kBlock);
   const size_t target = static_cast<size_t>(std::llround(spec.coverage_oktas / 8.0 * double(total_cells)));
   size_t covered = 0;
 
@@ -360,13 +382,21 @@ void generate_cumulus(const CloudLayerSpec& spec, uint64_t seed, GeneratedLayer*
     for (int j = j0; j <= j1; ++j) {
       const int gj = static_cast<int>(std::floor((amin.y + (j + 0.5) * c - o.y) / vv));
       if (gj < 0 || gj >= f.ny) continue;
+      int* free_row = &block_free[size_t(j / kBlock) * nbk];
       for (int i = i0; i <= i1; ++i) {
+        if (free_row[i / kBlock] == 0) {  // to the block's last column
+          i = (i / kBlock + 1) * kBlock - 1;
+          continue;
+        }
         const int gi = static_cast<int>(std::floor((amin.x + (i + 0.5) * c - o.x) / vv));
         if (gi < 0 || gi >= f.nx || !f.covered[size_t(gj) * f.nx + gi]) continue;
         uint8_t& cell = ground[size_t(j) * nc + i];
         if (cell) continue;
         ++added;
-        if (write) cell = 1;
+        if (write) {
+          cell = 1;
+          --free_row[i / kBlock];
+        }
       }
     }
     return added;
@@ -607,7 +637,7 @@ struct GenerationCancelled {};
 bool cancelled(const std::atomic<bool>* cancel) { return cancel && cancel->load(std::memory_order_relaxed); }
 
 void generate_deck(const CloudLayerSpec& spec, int oktas, uint64_t seed, GeneratedLayer* out,
-                   const std::atomic<bool>* cancel) {
+                   const std::atomic<bool>* cancel, int threads) {
   const CloudLayerType type = spec.type;
   const double depth = spec.top_m - spec.base_m;
   const double area = spec.area_size_m;
@@ -641,49 +671,61 @@ void generate_deck(const CloudLayerSpec& spec, int oktas, uint64_t seed, Generat
 
   std::vector<float> m(size_t(n) * n);
   std::vector<double> od(size_t(n) * n);  // vertical optical depth before the holes
-  std::vector<CloudVolume> vols;
-  for (int ty = 0; ty < tiles; ++ty)
-    for (int tx = 0; tx < tiles; ++tx) {
-      if (tx == 0 && cancelled(cancel)) throw GenerationCancelled{};
-      const int sx = tile_size(tx), sy = tile_size(ty);
-      CloudVolume vol;
-      vol.name = format("%s tile %d,%d", cloud_layer_type_name(type), tx, ty);
-      vol.voxel_size_m = static_cast<float>(v);
-      vol.optics = optics;
-      vol.density = DenseGrid(sx + 2, sy + 2, layers + 2);
-      vol.origin_enu_m = glm::dvec3(amin.x + (tx * nt - 1) * v, amin.y + (ty * nt - 1) * v, spec.base_m - v);
-      for (int j = 1; j <= sy; ++j) {
-        const int gj = ty * nt + j - 1;
-        const double y = amin.y + (gj + 0.5) * v;
-        for (int i = 1; i <= sx; ++i) {
-          const int gi = tx * nt + i - 1;
-          const double x = amin.x + (gi + 0.5) * v;
-          const DeckColumn col = model.column(x, y);
-          double sum = 0;
-          for (int k = 1; k <= layers; ++k) {
-            const float d = model.density(col, x, y, spec.base_m + (k - 0.5) * v);
-            vol.density.at(i, j, k) = d;
-            sum += d;
+  // Rows of tiles in bands, one per thread: each voxel and column is written
+  // by one, so the deck does not depend on the thread count.
+  std::vector<CloudVolume> vols(size_t(tiles) * tiles);
+  std::atomic<bool> stopped{false};
+  for_bands(tiles, threads, [&](int ty_begin, int ty_end) {
+    for (int ty = ty_begin; ty < ty_end; ++ty)
+      for (int tx = 0; tx < tiles; ++tx) {
+        if (tx == 0 && (cancelled(cancel) || stopped.load(std::memory_order_relaxed))) {
+          stopped = true;
+          return;
+        }
+        const int sx = tile_size(tx), sy = tile_size(ty);
+        CloudVolume& vol = vols[size_t(ty) * tiles + tx];
+        vol.name = format("%s tile %d,%d", cloud_layer_type_name(type), tx, ty);
+        vol.voxel_size_m = static_cast<float>(v);
+        vol.optics = optics;
+        vol.density = DenseGrid(sx + 2, sy + 2, layers + 2);
+        vol.origin_enu_m = glm::dvec3(amin.x + (tx * nt - 1) * v, amin.y + (ty * nt - 1) * v, spec.base_m - v);
+        for (int j = 1; j <= sy; ++j) {
+          const int gj = ty * nt + j - 1;
+          const double y = amin.y + (gj + 0.5) * v;
+          for (int i = 1; i <= sx; ++i) {
+            const int gi = tx * nt + i - 1;
+            const double x = amin.x + (gi + 0.5) * v;
+            const DeckColumn col = model.column(x, y);
+            double sum = 0;
+            for (int k = 1; k <= layers; ++k) {
+              const float d = model.density(col, x, y, spec.base_m + (k - 0.5) * v);
+              vol.density.at(i, j, k) = d;
+              sum += d;
+            }
+            m[size_t(gj) * n + gi] = col.m;
+            od[size_t(gj) * n + gi] = sum * column_scale;
           }
-          m[size_t(gj) * n + gi] = col.m;
-          od[size_t(gj) * n + gi] = sum * column_scale;
         }
       }
-      vols.push_back(std::move(vol));
-    }
+  });
+  if (stopped) throw GenerationCancelled{};
 
   // Holes: cover = smoothstep(t - e, t + e, m); find t by bisection so that
   // the fraction of the area's columns with optical depth > 0.1 is oktas/8.
   const float e = model.edge();
   const double want = oktas / 8.0;
-  auto coverage_at = [&](float t) {
-    size_t cnt = 0;
-    for (int j = 0; j < n_in; ++j)
-      for (int i = 0; i < n_in; ++i) {
-        const size_t q = size_t(j) * n + i;
-        if (smoothstep(t - e, t + e, m[q]) * od[q] > kCoveredOpticalDepth) ++cnt;
-      }
-    return double(cnt) / (double(n_in) * n_in);
+  auto coverage_at = [&](float t) {  // (a count: the same for any thread count)
+    std::atomic<size_t> cnt{0};
+    for_bands(n_in, threads, [&](int j_begin, int j_end) {
+      size_t c = 0;
+      for (int j = j_begin; j < j_end; ++j)
+        for (int i = 0; i < n_in; ++i) {
+          const size_t q = size_t(j) * n + i;
+          if (smoothstep(t - e, t + e, m[q]) * od[q] > kCoveredOpticalDepth) ++c;
+        }
+      cnt += c;
+    });
+    return double(cnt.load()) / (double(n_in) * n_in);
   };
   if (oktas < 8) {
     float lo = *std::min_element(m.begin(), m.end()) - 2 * e, hi = *std::max_element(m.begin(), m.end()) + 2 * e;
@@ -693,15 +735,17 @@ void generate_deck(const CloudLayerSpec& spec, int oktas, uint64_t seed, Generat
       (coverage_at(mid) > want ? lo : hi) = mid;
     }
     const float t = 0.5f * (lo + hi);
-    for (int ty = 0; ty < tiles; ++ty)
-      for (int tx = 0; tx < tiles; ++tx) {
-        CloudVolume& vol = vols[size_t(ty) * tiles + tx];
-        for (int j = 1; j < vol.density.ny - 1; ++j)
-          for (int i = 1; i < vol.density.nx - 1; ++i) {
-            const float cover = smoothstep(t - e, t + e, m[size_t(ty * nt + j - 1) * n + (tx * nt + i - 1)]);
-            for (int k = 1; k <= layers; ++k) vol.density.at(i, j, k) *= cover;
-          }
-      }
+    for_bands(tiles, threads, [&](int ty_begin, int ty_end) {
+      for (int ty = ty_begin; ty < ty_end; ++ty)
+        for (int tx = 0; tx < tiles; ++tx) {
+          CloudVolume& vol = vols[size_t(ty) * tiles + tx];
+          for (int j = 1; j < vol.density.ny - 1; ++j)
+            for (int i = 1; i < vol.density.nx - 1; ++i) {
+              const float cover = smoothstep(t - e, t + e, m[size_t(ty * nt + j - 1) * n + (tx * nt + i - 1)]);
+              for (int k = 1; k <= layers; ++k) vol.density.at(i, j, k) *= cover;
+            }
+        }
+    });
   }
 
   // Measured on the final grids; empty tiles dropped.
@@ -741,7 +785,7 @@ const char* cloud_layer_type_name(CloudLayerType t) {
   return "unknown";
 }
 
-GeneratedLayer generate_cloud_layer(const CloudLayerSpec& spec, const std::atomic<bool>* cancel) {
+GeneratedLayer generate_cloud_layer(const CloudLayerSpec& spec, const std::atomic<bool>* cancel, int threads) {
   validate(spec);
   GeneratedLayer out;
   out.coverage_fraction = 0.0;
@@ -754,16 +798,16 @@ GeneratedLayer generate_cloud_layer(const CloudLayerSpec& spec, const std::atomi
   try {
     switch (spec.type) {
       case CloudLayerType::Cumulus:
-        generate_cumulus(spec, seed, &out);
+        generate_cumulus(spec, seed, &out, threads);
         break;
       case CloudLayerType::Overcast:
         if (spec.coverage_oktas != 8)
           out.notes.push_back(format("overcast is 8 oktas (the spec asked %d)", spec.coverage_oktas));
-        generate_deck(spec, 8, seed, &out, cancel);
+        generate_deck(spec, 8, seed, &out, cancel, threads);
         break;
       case CloudLayerType::Stratus:
       case CloudLayerType::Cirrus:
-        generate_deck(spec, spec.coverage_oktas, seed, &out, cancel);
+        generate_deck(spec, spec.coverage_oktas, seed, &out, cancel, threads);
         break;
     }
   } catch (const GenerationCancelled&) {

@@ -55,7 +55,10 @@ struct GeneratedLayer {
 // 0..8, top_m <= base_m, a non-finite number, area_size_m <= 0, ...).
 // `cancel` (decks only: cumulus is cheap) is polled between rows of tiles
 // and bisection steps; when it is raised the result is empty and `cancelled`.
-GeneratedLayer generate_cloud_layer(const CloudLayerSpec& spec, const std::atomic<bool>* cancel = nullptr);
+// `threads` (the caller's is one) share the prototypes or the deck's rows of
+// tiles; the layer is the same for any count.
+GeneratedLayer generate_cloud_layer(const CloudLayerSpec& spec, const std::atomic<bool>* cancel = nullptr,
+                                    int threads = 1);
 
 // Stratus, overcast and cirrus (tiles of a deck), not cumulus.
 bool is_deck(CloudLayerType type);
