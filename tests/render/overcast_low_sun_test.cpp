@@ -33,38 +33,20 @@
 #include "atmo_support/image_metrics.h"
 #include "core/clouds/procedural_clouds.h"
 #include "scenario_setup.h"
+#include "two_stream.h"
 
 namespace hs = atmo::host_scene;
 namespace sc = atmo::scenario;
+namespace tr = atmo::test_render;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+sc::Scenario scenario() { return tr::load(ATMO_OVERCAST_LOW_SUN_JSON); }
 
-sc::Scenario scenario() {
-  const auto r = sc::load_scenario_file(ATMO_OVERCAST_LOW_SUN_JSON);
-  if (!r.scenario) throw std::runtime_error(r.error);
-  return *r.scenario;
-}
+atmo::support::Image render_of(const std::string& camera) { return tr::render_of(ATMO_OVERCAST_LOW_SUN_EXR_STEM, camera); }
 
-atmo::support::Image render_of(const std::string& camera) {
-  atmo::support::Image img;
-  std::string error;
-  const std::string path = std::string(ATMO_OVERCAST_LOW_SUN_EXR_STEM) + "_" + camera + ".exr";
-  if (!atmo::support::read_exr(path, &img, &error)) throw std::runtime_error(error);
-  return img;
-}
-
-// Pixels from the image's centre (the camera's axis) to pixel (x, y)'s centre.
-double from_centre(const atmo::support::Image& img, int x, int y) {
-  return std::hypot(x + 0.5 - 0.5 * img.width, y + 0.5 - 0.5 * img.height);
-}
-
-size_t camera_index(const sc::Scenario& s, const std::string& name) {
-  for (size_t i = 0; i < s.cameras.size(); ++i)
-    if (s.cameras[i].name == name) return i;
-  throw std::runtime_error("no camera " + name);
-}
+using tr::camera_index;
+using tr::from_centre;
 
 TEST(OvercastLowSun, NoSunDiscThroughTheDeck) {
   const sc::Scenario s = scenario();
@@ -120,45 +102,19 @@ TEST(OvercastLowSun, TheDecksBaseAgainstTheTwoStreamEstimate) {
   spec.area_size_m = sc::cloud_layer_area_m(s, layer);
   spec.seed = layer.seed;  // atmo render's context seed is 0
   const atmo::clouds::CloudField field = atmo::clouds::generate_cloud_layer(spec).field;
-  const double extinction = field.prototypes[0].optics.extinction_per_m;
   // The base seen within 3 deg of the zenith from 300 m: columns within ~30 m; the
   // diffuse light comes from ~a few hundred m around: the mean transmission of
   // columns within 400 m.
-  double t_diffuse = 0.0, tau_mean = 0.0;
-  int columns = 0;
-  for (double x = -400.0; x <= 400.0; x += 100.0)
-    for (double y = -400.0; y <= 400.0; y += 100.0, ++columns) {
-      double tau = 0.0;
-      for (double z = layer.base_m - 20.0; z < layer.top_m + 20.0; z += 2.0)
-        tau += atmo::clouds::field_density_at(field, glm::dvec3(x, y, z + 1.0)) * 2.0 * extinction;
-      tau_mean += tau;
-      t_diffuse += 1.0 / (1.0 + 0.75 * (1.0 - 0.85) * tau);
-    }
-  tau_mean /= columns;
-  t_diffuse /= columns;
-  // Diffusion theory for a thick conservative slab (e.g. Bohren 1987): a beam at
-  // mu0 passes u(mu0) = (3/7)(1 + 2 mu0) times the diffuse transmission, and
-  // leaves the base with radiance (E / pi) u(mu) (u averages 1 over the
-  // hemisphere's cosine weight): the zenith reads u(1) = 9/7 of E / pi.
-  // The ground (albedo a) sends back a share of it, which the deck reflects
-  // (1 - T) down again: 1 / (1 - a (1 - T)) more.
-  const double u0 = 3.0 / 7.0 * (1.0 + 2.0 * mu0);
+  const tr::ColumnTransmission columns = tr::column_transmission(field, layer.base_m, layer.top_m, 400.0);
+  const double tau_mean = columns.tau_mean, t_diffuse = columns.diffuse;
   const double albedo = s.atmosphere.ground_albedo;
-  const double below_lux = (sun_lux * mu0 * u0 + sky_lux) * t_diffuse / (1.0 - albedo * (1.0 - t_diffuse));
-  const double zenith_estimate = 9.0 / 7.0 * below_lux / kPi;
+  const double below_lux = tr::below_layer_lux(above, albedo, t_diffuse);
+  const double zenith_estimate = tr::zenith_base_luminance(above, albedo, t_diffuse);
 
   const atmo::support::Image img = render_of("zenith");
-  const sc::Camera& cam = s.cameras[ci];
-  const double pixels_per_deg = cam.height / cam.vertical_fov_deg;
-  double sum = 0.0;
-  int n = 0;
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x)
-      if (from_centre(img, x, y) <= 3.0 * pixels_per_deg) {
-        sum += atmo::support::luminance(img.pixel(x, y));
-        ++n;
-      }
-  const double zenith = sum / n;
+  const glm::dvec3 mean = tr::mean_within(img, s.cameras[ci], 3.0);
+  const float rgb[3] = {float(mean.r), float(mean.g), float(mean.b)};
+  const double zenith = atmo::support::luminance(rgb);
   std::printf("above the deck: Sun %.4g lx at %.2f deg (%.4g lx on the horizontal), sky %.4g lx; deck tau %.1f "
               "(mean over the columns), diffuse transmission %.3f; under the deck %.4g lx (two-stream); the base at "
               "the zenith %.4g cd/m^2 estimated, %.4g rendered (%.3fx)\n",

@@ -463,3 +463,24 @@ TEST(Loader, MoonOffIsReportedAndCameraExposureIsRead) {
   EXPECT_FALSE(bad.scenario);
   EXPECT_NE(bad.error.find("/cameras/0/exposure_ev100"), std::string::npos) << bad.error;
 }
+
+// A luminance check names the one camera it applies to; a name that is not
+// a camera's is an error naming the field and the cameras there are.
+TEST(Loader, LuminanceCheckCameraMustBeACamera) {
+  json d = minimal();
+  const std::string camera = d["cameras"][0]["name"];
+  d["expectations"] = {{"luminance_checks",
+                        {{{"name", "a"}, {"u", 0.5}, {"v", 0.5}, {"min_cd_m2", 0}, {"max_cd_m2", 1}, {"camera", camera}},
+                         {{"name", "b"}, {"u", 0.5}, {"v", 0.5}, {"min_cd_m2", 0}, {"max_cd_m2", 1}}}}};
+  auto r = load(d);
+  ASSERT_TRUE(r.scenario) << r.error;
+  EXPECT_EQ(r.scenario->expectations.luminance_checks[0].camera, camera);
+  EXPECT_EQ(r.scenario->expectations.luminance_checks[1].camera, "");
+  d["expectations"]["luminance_checks"][0]["camera"] = "nope";
+  r = load(d);
+  ASSERT_FALSE(r.scenario);
+  EXPECT_NE(r.error.find("test.json: /expectations/luminance_checks/0/camera: expected the name of one of the "
+                         "cameras (" + camera + "), found \"nope\""),
+            std::string::npos)
+      << r.error;
+}

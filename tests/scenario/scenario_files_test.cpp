@@ -87,11 +87,11 @@ double sun_elevation_deg(double lat_deg, double lon_deg, double posix_s) {
 // Shipped scenarios
 
 const std::vector<std::string> kShipped = {
-    "civil_twilight.json", "cumulus_flythrough.json", "high_altitude_12km.json", "moonlit_night.json",
+    "cirrus_overhead.json", "civil_twilight.json", "cumulus_8_oktas_horizon.json", "cumulus_flythrough.json", "high_altitude_12km.json", "moonlit_night.json",
     "noon_clear.json",     "orbit_night_5000km.json", "overcast_dusk.json",      "overcast_low_sun.json",
     "runway_fog_night.json", "sunset_haze.json", "vdb_cloud.json"};
 
-TEST(ShippedScenarios, AreExactlyTheDocumentedEleven) {
+TEST(ShippedScenarios, AreExactlyTheDocumentedThirteen) {
   EXPECT_EQ(json_files(kConfig / "scenarios", ""), kShipped);
 }
 
@@ -146,6 +146,7 @@ TEST_P(ShippedScenario, SunElevationMatchesTheName) {
       {"runway_fog_night.json", -90, -18}, {"cumulus_flythrough.json", 30, 90},
       {"high_altitude_12km.json", 20, 90}, {"overcast_dusk.json", 0, 4},
       {"overcast_low_sun.json", 4, 10},
+      {"cumulus_8_oktas_horizon.json", 30, 90}, {"cirrus_overhead.json", 30, 90},
       {"vdb_cloud.json", 30, 90},
       // Behind the Earth from the camera 5000 km up: below the horizon's dip there, acos(R / (R + h)) = 55.9°.
       {"orbit_night_5000km.json", -90, -56}};

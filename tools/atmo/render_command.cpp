@@ -137,9 +137,14 @@ void set_clouds(const sc::Scenario& scenario, atmo::Context& context) {
     }
     layers.push_back(l);
   }
-  const AtmoCloudsState state =
+  AtmoCloudsState state =
       atmo::clouds_state(scenario.location.latitude_deg, scenario.location.longitude_deg, scenario.location.height_m,
                          layers.data(), static_cast<uint32_t>(layers.size()));
+  static_assert(int(sc::CloudDrawMode::Impostors) == ATMO_CLOUD_DRAW_IMPOSTORS &&
+                int(sc::CloudDrawMode::Direct) == ATMO_CLOUD_DRAW_DIRECT &&
+                int(sc::CloudDrawMode::Layer) == ATMO_CLOUD_DRAW_LAYER);
+  state.draw_mode = static_cast<uint32_t>(scenario.render.cloud_draw_mode);
+  state.setup = ATMO_CLOUD_SETUP_WAIT;  // a still: the full lighting, whatever the draw mode
   const AtmoResult r = context.set_clouds(state);
   if (r != ATMO_SUCCESS) std::printf("  clouds: %s\n", context.last_error().c_str());
 }
@@ -296,6 +301,7 @@ int run_render(const Options& options) {
         checks.add(prefix + "finite", bad == 0, std::to_string(bad) + " pixels with NaN/Inf");
       }
       for (const sc::LuminanceCheck& lc : scenario.expectations.luminance_checks) {
+        if (!lc.camera.empty() && lc.camera != cam.name) continue;
         int x = std::clamp(static_cast<int>(lc.u * cam.width), 0, cam.width - 1);
         int y = std::clamp(static_cast<int>(lc.v * cam.height), 0, cam.height - 1);
         double lum = support::luminance(image.pixel(x, y));

@@ -40,11 +40,11 @@ const std::vector<ObjectShape> kShapes = {
     {"lights", {"runway_approach", "points"}},
     {"light_point", {"enu_m", "intensity_cd", "color"}},
     {"night_sky", {"stars", "moon"}},
-    {"render", {"depth_convention", "exposure_ev100", "output"}},
+    {"render", {"depth_convention", "exposure_ev100", "output", "cloud_draw_mode"}},
     {"outputs", {"exr", "png"}},
     {"expectations", {"finite", "reference", "luminance_checks", "max_frame_ms"}},
     {"reference", {"image", "metric", "min_psnr_db"}},
-    {"luminance_check", {"name", "u", "v", "min_cd_m2", "max_cd_m2"}},
+    {"luminance_check", {"name", "u", "v", "min_cd_m2", "max_cd_m2", "camera"}},
 };
 
 const std::vector<std::string>& shape(const char* name) {
@@ -127,7 +127,7 @@ class Loader {
     if (const json* v = r.field("render", false, "")) render(*v, r.child("render"), &s->render);
     if (const json* v = r.field("outputs", false, "")) outputs(*v, r.child("outputs"), &s->outputs);
     if (const json* v = r.field("expectations", false, "")) {
-      expectations(*v, r.child("expectations"), &s->expectations);
+      expectations(*v, r.child("expectations"), s->cameras, &s->expectations);
     }
   }
 
@@ -376,6 +376,9 @@ class Loader {
     if (auto x = r.choice("output", {"linear_hdr", "display_srgb"}, 0)) {
       rd->output = static_cast<OutputEncoding>(*x);
     }
+    if (auto x = r.choice("cloud_draw_mode", {"impostors", "direct", "layer"}, 0)) {
+      rd->cloud_draw_mode = static_cast<CloudDrawMode>(*x);
+    }
   }
 
   void outputs(const json& v, const std::string& ptr, Outputs* o) {
@@ -384,7 +387,7 @@ class Loader {
     if (auto x = r.boolean("png", true)) o->png = *x;
   }
 
-  void expectations(const json& v, const std::string& ptr, Expectations* e) {
+  void expectations(const json& v, const std::string& ptr, const std::vector<Camera>& cameras, Expectations* e) {
     ObjectReader r(errors_, v, ptr, shape("expectations"), "expectations");
     if (!r.valid()) return;
     if (auto x = r.boolean("finite", true)) e->finite = *x;
@@ -399,14 +402,15 @@ class Loader {
       if (auto x = rr.number("min_psnr_db", Range::above(0), std::nullopt)) out.min_psnr_db = *x;
     }
     if (const json* checks = r.field("luminance_checks", false, "")) {
-      luminance_checks(*checks, r.child("luminance_checks"), &e->luminance_checks);
+      luminance_checks(*checks, r.child("luminance_checks"), cameras, &e->luminance_checks);
     }
     if (r.field("max_frame_ms", false, "")) {
       e->max_frame_ms = r.number("max_frame_ms", Range::above(0), std::nullopt);
     }
   }
 
-  void luminance_checks(const json& v, const std::string& ptr, std::vector<LuminanceCheck>* out) {
+  void luminance_checks(const json& v, const std::string& ptr, const std::vector<Camera>& cameras,
+                        std::vector<LuminanceCheck>* out) {
     if (!v.is_array()) {
       errors_.expected(ptr, "an array of luminance checks", v);
       return;
@@ -426,6 +430,16 @@ class Loader {
       if (lo && hi && *hi < *lo) {
         errors_.expected(r.child("max_cd_m2"),
                          "a number >= min_cd_m2 (" + detail::describe(*lo) + ")", *hi);
+      }
+      if (auto x = r.string("camera", false, 1, "a camera's name")) {
+        const bool named =
+            std::any_of(cameras.begin(), cameras.end(), [&](const Camera& cam) { return cam.name == *x; });
+        std::string names;
+        for (const Camera& cam : cameras) names += (names.empty() ? "" : ", ") + cam.name;
+        if (named)
+          c.camera = *x;
+        else
+          errors_.expected(r.child("camera"), "the name of one of the cameras (" + names + ")", json(*x));
       }
       out->push_back(std::move(c));
     }

@@ -124,11 +124,16 @@ struct NightSky {
 
 enum class DepthConvention { Standard, Reversed, Logarithmic };
 enum class OutputEncoding { LinearHdr, DisplaySrgb };
+// AtmoCloudDrawMode's order. A still in Layer mode waits for the full
+// lighting (ATMO_CLOUD_SETUP_WAIT) and traces every pixel
+// (ATMO_CLOUD_QUALITY_HIGH), so it does not depend on earlier frames.
+enum class CloudDrawMode { Impostors, Direct, Layer };
 
 struct Render {
   DepthConvention depth_convention = DepthConvention::Reversed;
   std::optional<double> exposure_ev100;  // [-20, 30]; absent: auto_exposure_ev100(sun)
   OutputEncoding output = OutputEncoding::LinearHdr;
+  CloudDrawMode cloud_draw_mode = CloudDrawMode::Impostors;
 };
 
 struct Outputs {
@@ -148,6 +153,7 @@ struct LuminanceCheck {
   double v = 0.0;          // [0, 1], v = 0 is the top row
   double min_cd_m2 = 0.0;  // >= 0
   double max_cd_m2 = 0.0;  // >= min_cd_m2
+  std::string camera;      // the one camera checked; empty: every camera
 };
 
 struct Expectations {
