@@ -540,8 +540,10 @@ typedef enum AtmoCloudSetup {
                                   resampled on the calling thread, ~1/10 of the full work); the full light
                                   grids, shadow map and clipmap are made on the worker and shown from the first
                                   pass after each is ready, and the clipmap follows the eye from cell to cell
-                                  the same way: no pass waits. What a frame shows then depends on how far the
-                                  worker got (the machine's load), as with a changed air */
+                                  the same way: no pass waits. Decks (stratus, overcast, cirrus) are generated
+                                  by set_clouds with half as many voxels across, and in full by a worker,
+                                  swapped in by the first pass after it ends. What a frame shows then depends
+                                  on how far the workers got (the machine's load), as with a changed air */
   ATMO_CLOUD_SETUP_WAIT = 1,   /* every pass that needs the full lighting or a clipmap for its cell makes it
                                   first (or waits for the worker's): slow first frames and hitches at cell
                                   crossings, but each frame is a function of the inputs alone. For tests and
