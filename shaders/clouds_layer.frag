@@ -12,8 +12,8 @@
 #include "clouds/cloud_functions.glsl"
 
 // The clipmap's levels stacked along z (gl/cloud_layer_renderer.cpp):
-// RGBA16F (sigma, sigma tau_light, sigma tau_up, sigma tau_down) and RG16F
-// (sigma tau_back, sigma droplet_um).
+// RGBA16F (sigma, tau_light, tau_up, tau_down) and RG16F (tau_back,
+// sigma droplet_um): core/clouds/cloud_clipmap.h.
 uniform sampler3D u_layer_a;
 uniform sampler3D u_layer_b;
 uniform vec3 u_layer_size;  // texels of the stacked texture

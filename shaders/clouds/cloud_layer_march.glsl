@@ -129,7 +129,15 @@ ATMO_FN CloudLayerSample cloud_layer_march(IN(CLOUD_LAYER) vol, IN(CloudLayerMar
     int l = cloud_layer_level_at(m, p);
     if (l < 0) break;
     float v = m.level_origin[l].w;
+    // Whole steps to t1 (the slab's far side, the host's surface): the
+    // ray's last sample lies half a step before it, as the per-cloud march's
+    // before its box's face. A cloud's remaining diffuse weight is paid at
+    // its last sample (cloud_ray_step); where that fell anywhere in the last
+    // step, a deck's lit top paid it deep inside instead of at the face,
+    // where the build-up leaves none (a tile seen from below was 7.1 % off
+    // the path tracer, the per-cloud march 5.0 %).
     float dt = min(max(v * m.step_voxels, (t1 - t) / float(left)), t1 - t);
+    dt = (t1 - t) / ceil((t1 - t) / dt);
     // Empty space: where a coarser level (two up, then every second one) is
     // clear around the point, so is every finer voxel within half its voxel
     // (its box filter holds them): skip that far, from the coarsest clear one.

@@ -86,11 +86,14 @@ double check_views(const std::vector<View>& views, const std::vector<double>& li
   return mean;
 }
 
+// Each view's limit, ~2 points above its figure (measured: see docs/CLOUDS.md):
+// the development views (fitted on), then the held-out ones (clouds, suns and
+// eyes no fit saw).
+const std::vector<double> kDevelopmentLimits = {0.14, 0.17, 0.16, 0.18, 0.12, 0.11, 0.22, 0.15, 0.12, 0.13, 0.10};
+const std::vector<double> kHeldOutLimits = {0.22, 0.17, 0.08, 0.09, 0.29};
+
 TEST(CloudOctaves, MultipleScatteringApproximationAgainstPathTracer) {
-  // The development views (fitted on). Measured: see docs/CLOUDS.md; each
-  // limit ~2 points above its view's figure.
-  const double mean = check_views(development_views(),
-                                  {0.14, 0.17, 0.16, 0.18, 0.12, 0.11, 0.22, 0.15, 0.12, 0.13, 0.10}, "development views");
+  const double mean = check_views(development_views(), kDevelopmentLimits, "development views");
   EXPECT_LE(mean, 0.13);
   // Single scattering (plus the ambient) misses most of the light.
   for (const View& v : development_views()) {
@@ -100,25 +103,23 @@ TEST(CloudOctaves, MultipleScatteringApproximationAgainstPathTracer) {
 }
 
 TEST(CloudOctaves, HeldOutCloudsAgainstPathTracer) {
-  // Clouds, suns and eyes no fit saw. Measured: see docs/CLOUDS.md; each
-  // limit ~2 points above its view's figure.
-  const double mean = check_views(held_out_views(), {0.22, 0.17, 0.08, 0.09, 0.29}, "held-out views");
+  const double mean = check_views(held_out_views(), kHeldOutLimits, "held-out views");
   EXPECT_LE(mean, 0.16);
 }
 
 // The layer march (ATMO_CLOUD_DRAW_LAYER: the same lighting through a clipmap
 // of the cloud, resampled around the eye) against the same references, every
-// view: each within ~2 points of its measured figure and within 4 points of
-// the per-cloud march (what the clipmap's resampling costs; measured: see
-// docs/CLOUDS.md), and both means within the 15 % target.
+// view: no worse than the per-cloud march, give or take half a point (the two
+// marches sample the ray apart; each reference's own noise is 2-4 %; measured:
+// see docs/CLOUDS.md), so within the same limits, and both means within the
+// 15 % target.
 TEST(CloudOctaves, LayerMarchAgainstPathTracer) {
-  const std::vector<double> limits[2] = {{0.14, 0.17, 0.17, 0.19, 0.12, 0.11, 0.26, 0.15, 0.12, 0.12, 0.09},
-                                         {0.22, 0.17, 0.10, 0.08, 0.29}};
+  const std::vector<double>* limits[2] = {&kDevelopmentLimits, &kHeldOutLimits};
   const std::vector<View>* groups[2] = {&development_views(), &held_out_views()};
   double mean[2] = {0.0, 0.0}, worst_gap = -1.0;
   for (int g = 0; g < 2; ++g) {
     const std::vector<View>& views = *groups[g];
-    ASSERT_EQ(views.size(), limits[g].size());
+    ASSERT_EQ(views.size(), limits[g]->size());
     for (size_t i = 0; i < views.size(); ++i) {
       const View& v = views[i];
       const LightingErrors per_cloud = compare(v, default_octaves());
@@ -126,8 +127,8 @@ TEST(CloudOctaves, LayerMarchAgainstPathTracer) {
           reference::compare_with_reference(v, default_octaves(), reference::LightingMarch::Layer);
       print(v, layer, "layer ");
       EXPECT_EQ(layer.pixels, per_cloud.pixels) << v.key;
-      EXPECT_LE(layer.mean, limits[g][i]) << v.name << " (per-cloud march " << per_cloud.mean << ")";
-      EXPECT_LE(layer.mean, per_cloud.mean + 0.04) << v.name << " (per-cloud march " << per_cloud.mean << ")";
+      EXPECT_LE(layer.mean, (*limits[g])[i]) << v.name << " (per-cloud march " << per_cloud.mean << ")";
+      EXPECT_LE(layer.mean, per_cloud.mean + 0.005) << v.name << " (per-cloud march " << per_cloud.mean << ")";
       worst_gap = std::max(worst_gap, layer.mean - per_cloud.mean);
       mean[g] += layer.mean / static_cast<double>(views.size());
     }

@@ -99,6 +99,34 @@ double voxels_for(const glm::dvec3& lo, const glm::dvec3& hi, const ClipmapSpec&
   return total;
 }
 
+// A level's corner, on multiples of its voxel v (the levels' lattices nest):
+// centred on `centre`, then moved over the field's boxes (lo, hi, plus 3
+// voxels) where it sticks out past them, so no voxel is spent on clear air
+// that could hold cloud (an eye outside or near the edge of the field keeps
+// its finest voxels on the clouds: a cumulus 2 km away, half of it at level
+// 1, was 23.2 % off the path tracer against the per-cloud march's 19.7 %),
+// and kept around the finer level (each level holds the one inside it, so
+// the march's coarser fetches read voxels that were built). A function of
+// the cell, as before.
+glm::dvec2 level_corner(const glm::dvec2& lo, const glm::dvec2& hi, const glm::dvec2& centre, int size, double v,
+                        const ClipmapLevel* finer) {
+  const double width = size * v;
+  glm::dvec2 corner;
+  for (int a = 0; a < 2; ++a) {
+    // The corners that put the field inside the level (or the level inside the field).
+    const double first = lo[a] - 3.0 * v, last = hi[a] + 3.0 * v - width;
+    double k = std::floor((centre[a] - 0.5 * width) / v);
+    k = std::clamp(k, std::floor(std::min(first, last) / v), std::ceil(std::max(first, last) / v));
+    if (finer) {
+      const double f = finer->origin_m[a];
+      const int n = a == 0 ? finer->nx : finer->ny;
+      k = std::clamp(k, std::ceil((f + n * finer->voxel_m - width) / v), std::floor(f / v));
+    }
+    corner[a] = k * v;
+  }
+  return corner;
+}
+
 }  // namespace
 
 size_t CloudClipmap::memory_bytes() const {
@@ -221,9 +249,9 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
     }
     L.nx = L.ny = spec.size;
     L.nz = static_cast<int>(std::ceil((hi.z - lo.z) / v)) + 2;
-    // Corners on multiples of the voxel: the levels' lattices nest.
-    L.origin_m = glm::dvec3(std::floor((centre.x - 0.5 * spec.size * v) / v) * v,
-                            std::floor((centre.y - 0.5 * spec.size * v) / v) * v, lo.z - v);
+    const glm::dvec2 corner = level_corner(glm::dvec2(lo), glm::dvec2(hi), centre, spec.size, v,
+                                           l == 0 ? nullptr : &out.levels.back());
+    L.origin_m = glm::dvec3(corner, lo.z - v);
     L.a.assign(static_cast<size_t>(L.nx) * L.ny * L.nz, glm::vec4(0.0f));
     L.b.assign(L.a.size(), glm::vec2(0.0f));
     // Bands of rows: each voxel is written by one thread, so the result does
