@@ -16,11 +16,13 @@
 // sigma droplet_um): core/clouds/cloud_clipmap.h.
 uniform sampler3D u_layer_a;
 uniform sampler3D u_layer_b;
+uniform usampler3D u_layer_clear;  // R8UI: the levels' clear bricks, stacked along z likewise
 uniform vec3 u_layer_size;  // texels of the stacked texture
 #define CLOUD_LAYER int
 vec3 cloud_layer_uvw(int level, vec3 q);
 vec4 cloud_layer_fetch_a(IN(int) unused, int level, IN(vec3) q) { return texture(u_layer_a, cloud_layer_uvw(level, q)); }
 vec2 cloud_layer_fetch_b(IN(int) unused, int level, IN(vec3) q) { return texture(u_layer_b, cloud_layer_uvw(level, q)).rg; }
+float cloud_layer_fetch_clear(IN(int) unused, int level, IN(ivec3) brick);
 vec2 g_uv;  // this pixel's place in the aerial-perspective volume
 void cloud_layer_air(float depth_m, OUT(vec3) inscatter, OUT(vec3) transmittance) {
   atmo_aerial_perspective_sample(u_aerial_inscatter, u_aerial_transmittance, g_uv, depth_m, u_aerial_range_m,
@@ -37,6 +39,10 @@ uniform ivec2 u_trace_offset;    // which one
 
 vec3 cloud_layer_uvw(int level, vec3 q) {
   return (q + vec3(0.0f, 0.0f, u_layer.level_dims[level].w)) / u_layer_size;
+}
+float cloud_layer_fetch_clear(IN(int) unused, int level, IN(ivec3) brick) {
+  ivec3 k = clamp(brick, ivec3(0), ivec3(u_layer.level_bricks[level].xyz) - 1);
+  return float(texelFetch(u_layer_clear, k + ivec3(0, 0, int(u_layer.level_bricks[level].w)), 0).r);
 }
 
 layout(location = 0) out vec4 out_color;

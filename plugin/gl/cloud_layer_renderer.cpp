@@ -19,6 +19,7 @@ bool CloudLayerRenderer::init(std::string* error) {
   full_viewport_ = loc("u_full_viewport");
   tex_a_ = loc("u_layer_a");
   tex_b_ = loc("u_layer_b");
+  tex_clear_ = loc("u_layer_clear");
   size_ = loc("u_layer_size");
   clouds_from_enu_ = loc("u_clouds_from_enu");
   trace_stride_ = loc("u_trace_stride");
@@ -26,6 +27,7 @@ bool CloudLayerRenderer::init(std::string* error) {
   level_count_ = loc("u_layer.level_count");
   level_origin_ = loc("u_layer.level_origin[0]");
   level_dims_ = loc("u_layer.level_dims[0]");
+  level_bricks_ = loc("u_layer.level_bricks[0]");
   phases_ = loc("u_layer.phases[0]");
   phase_um_ = loc("u_layer.phase_um[0]");
   phase_count_ = loc("u_layer.phase_count");
@@ -44,7 +46,7 @@ bool CloudLayerRenderer::init(std::string* error) {
 
 void CloudLayerRenderer::destroy() {
   if (program_) glDeleteProgram(program_);
-  for (GLuint t : {tex_a, tex_b})
+  for (GLuint t : {tex_a, tex_b, tex_clear})
     if (t) glDeleteTextures(1, &t);
   *this = CloudLayerRenderer{};
 }
@@ -86,8 +88,27 @@ bool CloudLayerRenderer::upload(const clouds::CloudClipmap& clipmap, uint64_t cl
       z += L.nz;
     }
   }
+  // The clear bricks: bytes, fetched whole (integer texels, nearest).
+  const int bx = clipmap.levels[0].bx, by = clipmap.levels[0].by;
+  int bz = 0;
+  for (const clouds::ClipmapLevel& L : clipmap.levels) bz += L.bz;
+  if (!tex_clear) glGenTextures(1, &tex_clear);
+  glBindTexture(GL_TEXTURE_3D, tex_clear);
+  glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAX_LEVEL, 0);
+  glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  if (brick_size_ != glm::ivec3(bx, by, bz))
+    glTexImage3D(GL_TEXTURE_3D, 0, GL_R8UI, bx, by, bz, 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE, nullptr);
+  brick_size_ = glm::ivec3(bx, by, bz);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  int z = 0;
+  for (const clouds::ClipmapLevel& L : clipmap.levels) {
+    glTexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, z, L.bx, L.by, L.bz, GL_RED_INTEGER, GL_UNSIGNED_BYTE, L.clear.data());
+    z += L.bz;
+  }
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   texture_size_ = glm::vec3(nx, ny, nz);
-  bytes_ = static_cast<size_t>(nx) * ny * nz * 12;
+  bytes_ = static_cast<size_t>(nx) * ny * nz * 12 + static_cast<size_t>(bx) * by * bz;
   uploaded_version_ = clipmap_version;
   return check_gl("uploading the clouds' clipmap", error);
 }
@@ -103,7 +124,11 @@ void CloudLayerRenderer::use(const clouds::twin::CloudLayerMarch& m, const cloud
   glBindTexture(GL_TEXTURE_3D, tex_b);
   glBindSampler(unit_a + 1, sampler);
   glUniform1i(tex_a_, static_cast<GLint>(unit_a));
+  glActiveTexture(GL_TEXTURE0 + unit_a + 2);
+  glBindTexture(GL_TEXTURE_3D, tex_clear);
+  glBindSampler(unit_a + 2, 0);  // its own nearest filtering (an integer texture)
   glUniform1i(tex_b_, static_cast<GLint>(unit_a + 1));
+  glUniform1i(tex_clear_, static_cast<GLint>(unit_a + 2));
   glUniform3fv(size_, 1, glm::value_ptr(texture_size_));
   glUniformMatrix3fv(clouds_from_enu_, 1, GL_FALSE, glm::value_ptr(clouds_from_enu));
   glUniform1i(trace_stride_, trace_stride);
@@ -111,6 +136,7 @@ void CloudLayerRenderer::use(const clouds::twin::CloudLayerMarch& m, const cloud
   glUniform1i(level_count_, m.level_count);
   glUniform4fv(level_origin_, CLOUD_LAYER_MAX_LEVELS, glm::value_ptr(m.level_origin[0]));
   glUniform4fv(level_dims_, CLOUD_LAYER_MAX_LEVELS, glm::value_ptr(m.level_dims[0]));
+  glUniform4fv(level_bricks_, CLOUD_LAYER_MAX_LEVELS, glm::value_ptr(m.level_bricks[0]));
   glUniform4fv(phases_, CLOUD_LAYER_PHASES, glm::value_ptr(m.phases[0]));
   glUniform1fv(phase_um_, CLOUD_LAYER_PHASES, m.phase_um);
   glUniform1i(phase_count_, m.phase_count);

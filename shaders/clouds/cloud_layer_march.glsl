@@ -9,6 +9,9 @@
 //     the level's terms trilinearly at level index point q (voxel centres at
 //     integer + 0.5): a = (sigma_t, tau_light, tau_up, tau_down),
 //     b = (tau_back, sigma_t droplet_um);
+//   float cloud_layer_fetch_clear(IN(CLOUD_LAYER) v, int level, IN(ivec3) brick):
+//     the level's clear distance at a brick of 2x2x2 voxels (clamped into
+//     the level; core/clouds/cloud_clipmap.h);
 //   void cloud_layer_air(float depth_m, OUT(vec3) inscatter, OUT(vec3) transmittance):
 //     the air between the eye and a cloud at that distance (the aerial
 //     perspective; none on the CPU).
@@ -21,6 +24,7 @@ struct CloudLayerMarch {
   int level_count;
   vec4 level_origin[CLOUD_LAYER_MAX_LEVELS];  // xyz: corner of the level's voxel (0, 0, 0), m from the eye; w: voxel m
   vec4 level_dims[CLOUD_LAYER_MAX_LEVELS];    // voxels along x, y, z; w: the level's first slice in the GL texture
+  vec4 level_bricks[CLOUD_LAYER_MAX_LEVELS];  // clear bricks along x, y, z; w: the level's first slice in theirs
   vec4 phases[CLOUD_LAYER_PHASES];            // CloudPhase (g_hg, g_draine, alpha_draine, w_draine) at ...
   float phase_um[CLOUD_LAYER_PHASES];         // ... these droplet diameters (um, ascending): the field's own
   int phase_count;                            // >= 1
@@ -138,20 +142,18 @@ ATMO_FN CloudLayerSample cloud_layer_march(IN(CLOUD_LAYER) vol, IN(CloudLayerMar
     // the path tracer, the per-cloud march 5.0 %).
     float dt = min(max(v * m.step_voxels, (t1 - t) / float(left)), t1 - t);
     dt = (t1 - t) / ceil((t1 - t) / dt);
-    // Empty space: where a coarser level (two up, then every second one) is
-    // clear around the point, so is every finer voxel within half its voxel
-    // (its box filter holds them): skip that far, from the coarsest clear one.
-    // Not looked for right after a cloudy step (inside a cloud the level two
-    // up is hardly ever clear: a fetch a step saved).
-    vec3 mid = dir * (t + 0.5f * dt);
+    // Empty space: the level's clear bricks say how far no cloud reaches
+    // around the point (cloud_clipmap.h): skip that far. Not looked for
+    // inside a cloud (a fetch a step saved: the brick there is cloudy).
     float clear_reach = 0.0f;
-    for (int lc = l + 2; !in_cloud && lc < m.level_count; lc += 2) {
-      if (cloud_layer_fetch_a(vol, lc, cloud_layer_index(m, lc, mid)).x > 0.0f) break;
-      clear_reach = 0.5f * m.level_origin[lc].w;
+    if (!in_cloud) {
+      ivec3 brick = ivec3(floor(cloud_layer_index(m, l, p) * 0.5f));
+      clear_reach = max(2.0f * cloud_layer_fetch_clear(vol, l, brick) - 2.5f, 0.0f) * v;
     }
+    vec3 mid = dir * (t + 0.5f * dt);
     vec4 a = vec4(0.0f);
-    if (clear_reach > 0.0f) {
-      dt = min(max(dt, clear_reach), t1 - t);
+    if (clear_reach > dt) {
+      dt = min(clear_reach, t1 - t);
     } else {
       a = cloud_layer_fetch_a(vol, l, cloud_layer_index(m, l, mid));
     }

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <tuple>
 
 #include "core/clouds/cloud_clipmap.h"
 #include "core/clouds/cloud_optics.h"
@@ -180,6 +181,7 @@ TEST(CloudClipmap, BudgetAndDeterminism) {
                                a.levels[l].a.size() * sizeof(glm::vec4)));
       EXPECT_EQ(0, std::memcmp(a.levels[l].b.data(), other->levels[l].b.data(),
                                a.levels[l].b.size() * sizeof(glm::vec2)));
+      EXPECT_EQ(a.levels[l].clear, other->levels[l].clear);
     }
   }
   const twin::CloudOctaves oc = default_octaves();
@@ -190,6 +192,82 @@ TEST(CloudClipmap, BudgetAndDeterminism) {
       const twin::CloudLayerSample r = march_layer_ray(a, m, oc, glm::dvec3(0.0, std::cos(e), std::sin(e)), 1e30);
       EXPECT_LE(r.steps, budget) << el;
       EXPECT_TRUE(std::isfinite(r.radiance.g) && r.radiance.g >= 0.0f) << el;
+    }
+  }
+}
+
+// The clear bricks (the march's empty-space skipping): each the exact
+// Chebyshev distance to the nearest brick with cloud or past the grid's sides
+// (brute force over a sample of bricks), and conservative: from points all
+// over each level, no point within the reach the march takes from it
+// (max(2 clear - 2.5, 0) voxels, any direction) has cloud in the level's
+// trilinear fetch.
+TEST(CloudClipmap, ClearBricksAreConservative) {
+  const Scene scenes[] = {
+      make_scene(CloudLayerType::Cumulus, 3, 1000.0, 2400.0, 12000.0, glm::dvec3(0.3, 0.5, 0.8)),
+      make_scene(CloudLayerType::Stratus, 5, 800.0, 1300.0, 8000.0, glm::dvec3(0.0, 0.6, 0.8))};
+  uint32_t rng = 12345u;
+  auto uniform = [&]() {
+    rng = rng * 1664525u + 1013904223u;
+    return (rng >> 8) * (1.0 / 16777216.0);
+  };
+  for (const Scene& s : scenes) {
+    const ClipmapSpec spec;
+    const ClipmapGeometry geometry = clipmap_geometry(s.field, spec);
+    const CloudClipmap cm =
+        build_clipmap(s.field, build_prototype_mips(s.field, s.depths, s.light.direction_enu),
+                      build_cloud_ray_index(s.field), spec, geometry, clipmap_cell(geometry, glm::dvec3(500.0, 0.0, 0.0)));
+    const CpuCloudLayer layer{&cm};
+    for (size_t li = 0; li < cm.levels.size(); ++li) {
+      const ClipmapLevel& L = cm.levels[li];
+      ASSERT_EQ(L.clear.size(), static_cast<size_t>(L.bx) * L.by * L.bz);
+      std::vector<glm::ivec3> cloudy;
+      for (int z = 0; z < L.nz; ++z)
+        for (int y = 0; y < L.ny; ++y)
+          for (int x = 0; x < L.nx; ++x)
+            if (L.a[L.index(x, y, z)].x > 0.0f) cloudy.push_back(glm::ivec3(x, y, z) / 2);
+      std::sort(cloudy.begin(), cloudy.end(), [](const glm::ivec3& a, const glm::ivec3& b) {
+        return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x);
+      });
+      cloudy.erase(std::unique(cloudy.begin(), cloudy.end()), cloudy.end());
+      int wrong = 0, checked = 0;
+      for (size_t k = 0; k < L.clear.size(); k += 97) {
+        const int x = static_cast<int>(k % L.bx), y = static_cast<int>(k / L.bx % L.by),
+                  z = static_cast<int>(k / (static_cast<size_t>(L.bx) * L.by));
+        int d = std::min({x + 1, L.bx - x, y + 1, L.by - y, 255});
+        for (const glm::ivec3& c : cloudy) d = std::min(d, std::max({std::abs(c.x - x), std::abs(c.y - y), std::abs(c.z - z)}));
+        wrong += L.clear[k] != d;
+        ++checked;
+      }
+      EXPECT_EQ(wrong, 0) << "level " << li << ": " << wrong << " of " << checked << " bricks";
+      // Reach from random points, sampled along random directions.
+      int leaks = 0, points = 0;
+      double reach_sum = 0.0;
+      for (int n = 0; n < 400; ++n) {
+        const glm::vec3 q(uniform() * L.nx, uniform() * L.ny, 0.5 + uniform() * (L.nz - 1.0));
+        const glm::ivec3 b = glm::ivec3(glm::floor(q * 0.5f));
+        const float reach = std::max(2.0f * fetch_cloud_layer_clear(layer, static_cast<int>(li), b) - 2.5f, 0.0f);
+        reach_sum += reach;
+        ++points;
+        for (int r = 0; r < 8 && reach > 0.0f; ++r) {
+          const double cz = 2.0 * uniform() - 1.0, ph = 2.0 * M_PI * uniform(), sz = std::sqrt(1.0 - cz * cz);
+          const glm::vec3 dir(sz * std::cos(ph), sz * std::sin(ph), cz);
+          for (int i = 0; i <= 24; ++i) {
+            const glm::vec3 p = q + dir * (reach * i / 24.0f);
+            if (p.z < 0.5f || p.z > L.nz - 0.5f) break;  // the march stays in the slab
+            if (fetch_cloud_layer_a(layer, static_cast<int>(li), p).x > 0.0f) {
+              ++leaks;
+              break;
+            }
+          }
+        }
+      }
+      std::printf("level %zu (%.0f m voxels): %zu cloudy bricks, mean reach %.1f voxels, %d leaks\n", li, L.voxel_m,
+                  cloudy.size(), reach_sum / points, leaks);
+      EXPECT_EQ(leaks, 0) << "level " << li;
+      if (li == 0) {
+        EXPECT_GT(reach_sum / points, 2.0) << "the test should reach into clear space";
+      }
     }
   }
 }

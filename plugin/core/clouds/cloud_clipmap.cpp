@@ -127,11 +127,54 @@ glm::dvec2 level_corner(const glm::dvec2& lo, const glm::dvec2& hi, const glm::d
   return corner;
 }
 
+// The level's clear bricks (cloud_clipmap.h): occupied bricks 0, the rest
+// the exact Chebyshev distance by two raster sweeps over the 26
+// neighbours (a unit-weight chamfer is exact for it), seeded with the
+// distance to the grid's sides.
+void build_clear_bricks(ClipmapLevel* L) {
+  L->bx = (L->nx + 1) / 2, L->by = (L->ny + 1) / 2, L->bz = (L->nz + 1) / 2;
+  const int bx = L->bx, by = L->by, bz = L->bz;
+  std::vector<uint8_t>& d = L->clear;
+  d.assign(static_cast<size_t>(bx) * by * bz, 255);
+  for (int y = 0; y < by; ++y)
+    for (int x = 0; x < bx; ++x) {
+      const int side = std::min({x + 1, bx - x, y + 1, by - y, 255});
+      for (int z = 0; z < bz; ++z) d[L->brick_index(x, y, z)] = static_cast<uint8_t>(side);
+    }
+  for (int z = 0; z < L->nz; ++z)
+    for (int y = 0; y < L->ny; ++y)
+      for (int x = 0; x < L->nx; ++x)
+        if (L->a[L->index(x, y, z)].x > 0.0f) d[L->brick_index(x / 2, y / 2, z / 2)] = 0;
+  auto sweep = [&](int dir) {
+    const int z0 = dir > 0 ? 0 : bz - 1, y0 = dir > 0 ? 0 : by - 1, x0 = dir > 0 ? 0 : bx - 1;
+    for (int z = z0; z >= 0 && z < bz; z += dir)
+      for (int y = y0; y >= 0 && y < by; y += dir)
+        for (int x = x0; x >= 0 && x < bx; x += dir) {
+          uint8_t& c = d[L->brick_index(x, y, z)];
+          if (c == 0) continue;
+          // The 13 neighbours already swept: the previous slice, the previous row, the previous brick.
+          int best = c;
+          for (int dz = -1; dz <= 0; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+              for (int dx = -1; dx <= 1; ++dx) {
+                if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
+                const int nx = x + dir * dx, ny = y + dir * dy, nz = z + dir * dz;
+                if (nx < 0 || ny < 0 || nz < 0 || nx >= bx || ny >= by || nz >= bz) continue;
+                best = std::min(best, d[L->brick_index(nx, ny, nz)] + 1);
+              }
+          c = static_cast<uint8_t>(std::min(best, 255));
+        }
+  };
+  sweep(+1);
+  sweep(-1);
+}
+
 }  // namespace
 
 size_t CloudClipmap::memory_bytes() const {
   size_t b = 0;
-  for (const ClipmapLevel& l : levels) b += l.a.size() * sizeof(glm::vec4) + l.b.size() * sizeof(glm::vec2);
+  for (const ClipmapLevel& l : levels)
+    b += l.a.size() * sizeof(glm::vec4) + l.b.size() * sizeof(glm::vec2) + l.clear.size();
   return b;
 }
 
@@ -311,6 +354,7 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
       }
     });
     if (cancel && cancel->load(std::memory_order_relaxed)) return out;
+    build_clear_bricks(&L);
     out.levels.push_back(std::move(L));
   }
   return out;
@@ -320,12 +364,14 @@ twin::CloudLayerMarch make_layer_march(const CloudClipmap& clipmap, const glm::d
                                        float step_voxels, int max_steps) {
   twin::CloudLayerMarch m{};
   m.level_count = std::min(static_cast<int>(clipmap.levels.size()), CLOUD_LAYER_MAX_LEVELS);
-  int slice = 0;
+  int slice = 0, brick_slice = 0;
   for (int l = 0; l < m.level_count; ++l) {
     const ClipmapLevel& L = clipmap.levels[static_cast<size_t>(l)];
     m.level_origin[l] = glm::vec4(glm::vec3(L.origin_m - eye_m), static_cast<float>(L.voxel_m));
     m.level_dims[l] = glm::vec4(L.nx, L.ny, L.nz, slice);
+    m.level_bricks[l] = glm::vec4(L.bx, L.by, L.bz, brick_slice);
     slice += L.nz;
+    brick_slice += L.bz;
   }
   m.albedo = clipmap.albedo;
   const std::vector<float>& um = clipmap.droplet_um;
@@ -355,6 +401,12 @@ twin::CloudLayerSample march_layer_ray(const CloudClipmap& clipmap, const twin::
 glm::vec4 fetch_cloud_layer_a(const CpuCloudLayer& v, int level, const glm::vec3& q) {
   const ClipmapLevel& L = v.clipmap->levels[static_cast<size_t>(level)];
   return trilinear_zero_border<glm::vec4>(L.nx, L.ny, L.nz, q, [&](int x, int y, int z) { return L.a[L.index(x, y, z)]; });
+}
+
+float fetch_cloud_layer_clear(const CpuCloudLayer& v, int level, const glm::ivec3& brick) {
+  const ClipmapLevel& L = v.clipmap->levels[static_cast<size_t>(level)];
+  const glm::ivec3 k = glm::clamp(brick, glm::ivec3(0), glm::ivec3(L.bx, L.by, L.bz) - 1);
+  return L.clear.empty() ? 0.0f : static_cast<float>(L.clear[L.brick_index(k.x, k.y, k.z)]);
 }
 
 glm::vec2 fetch_cloud_layer_b(const CpuCloudLayer& v, int level, const glm::vec3& q) {

@@ -43,7 +43,17 @@ struct ClipmapLevel {
   int nx = 0, ny = 0, nz = 0;   // nz includes one empty voxel below and above the field
   std::vector<glm::vec4> a;     // see above, x fastest then y then z
   std::vector<glm::vec2> b;
+  // Empty-space skipping: bricks of 2x2x2 voxels (bx = ceil(nx / 2), ...),
+  // each the Chebyshev distance, in bricks, to the nearest brick with a
+  // voxel of cloud (0 in one; at most 255); the grid's sides count as cloud
+  // (what lies past them is another level's), above and below it is clear.
+  // The march skips max(2 clear - 2.5, 0) voxels from any point in the
+  // brick: the trilinear fetch reaches less than a voxel past a cloud
+  // voxel's centre (tested: CloudClipmap.ClearBricksAreConservative).
+  int bx = 0, by = 0, bz = 0;
+  std::vector<uint8_t> clear;
   size_t index(int x, int y, int z) const { return (static_cast<size_t>(z) * ny + y) * nx + x; }
+  size_t brick_index(int x, int y, int z) const { return (static_cast<size_t>(z) * by + y) * bx + x; }
 };
 
 // A prototype's mips of (density, tau_light, tau_up, tau_down) and tau_back

@@ -15,6 +15,8 @@ glm::vec4 fetch_cloud_volume(const CpuCloudVolume& v, const glm::vec3& index_poi
 struct CpuCloudLayer;
 glm::vec4 fetch_cloud_layer_a(const CpuCloudLayer& v, int level, const glm::vec3& index_point);
 glm::vec2 fetch_cloud_layer_b(const CpuCloudLayer& v, int level, const glm::vec3& index_point);
+// Brick `brick` (clamped into the level) of the level's clear distances.
+float fetch_cloud_layer_clear(const CpuCloudLayer& v, int level, const glm::ivec3& brick);
 }  // namespace atmo::clouds
 
 namespace atmo::clouds::twin {
@@ -33,6 +35,9 @@ inline vec4 cloud_layer_fetch_a(const CpuCloudLayer& v, int level, const vec3& q
 }
 inline vec2 cloud_layer_fetch_b(const CpuCloudLayer& v, int level, const vec3& q) {
   return fetch_cloud_layer_b(v, level, q);
+}
+inline float cloud_layer_fetch_clear(const CpuCloudLayer& v, int level, const ivec3& brick) {
+  return fetch_cloud_layer_clear(v, level, brick);
 }
 // No air on the CPU: the twin's radiance is the clouds' own.
 inline void cloud_layer_air(float, vec3& inscatter, vec3& transmittance) {
