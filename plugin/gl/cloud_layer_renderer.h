@@ -40,11 +40,11 @@ class CloudLayerRenderer {
  private:
   GLuint program_ = 0;
   PassUniforms pass_;
-  GLint divisor_ = -1, full_viewport_ = -1, tex_a_ = -1, tex_b_ = -1, tex_clear_ = -1, size_ = -1, clouds_from_enu_ = -1, trace_stride_ = -1,
-        trace_offset_ = -1;
-  GLint level_count_ = -1, level_origin_ = -1, level_dims_ = -1, level_bricks_ = -1, phases_ = -1, phase_um_ = -1, phase_count_ = -1,
-        bottom_ = -1, top_ = -1, step_voxels_ = -1, max_steps_ = -1, albedo_ = -1, light_illuminance_ = -1,
-        light_dir_ = -1, sky_radiance_ = -1, ground_radiance_ = -1;
+  GLint divisor_ = -1, full_viewport_ = -1, tex_a_ = -1, tex_b_ = -1, tex_clear_ = -1, size_ = -1,
+        clouds_from_enu_ = -1, trace_stride_ = -1, trace_offset_ = -1;
+  GLint level_count_ = -1, level_origin_ = -1, level_dims_ = -1, level_bricks_ = -1, phases_ = -1, phase_um_ = -1,
+        phase_count_ = -1, bottom_ = -1, top_ = -1, step_voxels_ = -1, max_steps_ = -1, albedo_ = -1,
+        light_illuminance_ = -1, light_dir_ = -1, sky_radiance_ = -1, ground_radiance_ = -1;
   OctaveUniforms octaves_;
   GLuint tex_a = 0, tex_b = 0, tex_clear = 0;
   glm::vec3 texture_size_{1.0f};

@@ -203,9 +203,8 @@ TEST(CloudClipmap, BudgetAndDeterminism) {
 // (max(2 clear - 2.5, 0) voxels, any direction) has cloud in the level's
 // trilinear fetch.
 TEST(CloudClipmap, ClearBricksAreConservative) {
-  const Scene scenes[] = {
-      make_scene(CloudLayerType::Cumulus, 3, 1000.0, 2400.0, 12000.0, glm::dvec3(0.3, 0.5, 0.8)),
-      make_scene(CloudLayerType::Stratus, 5, 800.0, 1300.0, 8000.0, glm::dvec3(0.0, 0.6, 0.8))};
+  const Scene scenes[] = {make_scene(CloudLayerType::Cumulus, 3, 1000.0, 2400.0, 12000.0, glm::dvec3(0.3, 0.5, 0.8)),
+                          make_scene(CloudLayerType::Stratus, 5, 800.0, 1300.0, 8000.0, glm::dvec3(0.0, 0.6, 0.8))};
   uint32_t rng = 12345u;
   auto uniform = [&]() {
     rng = rng * 1664525u + 1013904223u;
@@ -214,9 +213,9 @@ TEST(CloudClipmap, ClearBricksAreConservative) {
   for (const Scene& s : scenes) {
     const ClipmapSpec spec;
     const ClipmapGeometry geometry = clipmap_geometry(s.field, spec);
-    const CloudClipmap cm =
-        build_clipmap(s.field, build_prototype_mips(s.field, s.depths, s.light.direction_enu),
-                      build_cloud_ray_index(s.field), spec, geometry, clipmap_cell(geometry, glm::dvec3(500.0, 0.0, 0.0)));
+    const CloudClipmap cm = build_clipmap(s.field, build_prototype_mips(s.field, s.depths, s.light.direction_enu),
+                                          build_cloud_ray_index(s.field), spec, geometry,
+                                          clipmap_cell(geometry, glm::dvec3(500.0, 0.0, 0.0)));
     const CpuCloudLayer layer{&cm};
     for (size_t li = 0; li < cm.levels.size(); ++li) {
       const ClipmapLevel& L = cm.levels[li];
@@ -235,7 +234,8 @@ TEST(CloudClipmap, ClearBricksAreConservative) {
         const int x = static_cast<int>(k % L.bx), y = static_cast<int>(k / L.bx % L.by),
                   z = static_cast<int>(k / (static_cast<size_t>(L.bx) * L.by));
         int d = std::min({x + 1, L.bx - x, y + 1, L.by - y, 255});
-        for (const glm::ivec3& c : cloudy) d = std::min(d, std::max({std::abs(c.x - x), std::abs(c.y - y), std::abs(c.z - z)}));
+        for (const glm::ivec3& c : cloudy)
+          d = std::min(d, std::max({std::abs(c.x - x), std::abs(c.y - y), std::abs(c.z - z)}));
         wrong += L.clear[k] != d;
         ++checked;
       }

@@ -292,8 +292,8 @@ CloudClipmap build_clipmap(const CloudField& field, const std::vector<PrototypeM
     }
     L.nx = L.ny = spec.size;
     L.nz = static_cast<int>(std::ceil((hi.z - lo.z) / v)) + 2;
-    const glm::dvec2 corner = level_corner(glm::dvec2(lo), glm::dvec2(hi), centre, spec.size, v,
-                                           l == 0 ? nullptr : &out.levels.back());
+    const glm::dvec2 corner =
+        level_corner(glm::dvec2(lo), glm::dvec2(hi), centre, spec.size, v, l == 0 ? nullptr : &out.levels.back());
     L.origin_m = glm::dvec3(corner, lo.z - v);
     L.a.assign(static_cast<size_t>(L.nx) * L.ny * L.nz, glm::vec4(0.0f));
     L.b.assign(L.a.size(), glm::vec2(0.0f));
