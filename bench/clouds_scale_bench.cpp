@@ -11,7 +11,7 @@
 // field's density, the clipmap on the CPU, its GL textures). The eye moves
 // 5 m a frame.
 //
-//   atmo_clouds_scale_bench [--mode layer|impostors|direct] [--frames N]
+//   atmo_clouds_scale_bench [--mode layer|auto|impostors|direct] [--frames N]
 //                           [--quality default|low|medium|high|full] [--setup stream|wait]
 //                           [--sizes 1280x720,1920x1080] [--only SUBSTRING] [--csv FILE]
 // --quality: the view's AtmoViewState.cloud_quality (the layer march's cost knob).
@@ -111,7 +111,10 @@ int main(int argc, char** argv) {
       ++i;
     } else if (a == "--mode") {
       const std::string m = v;
-      mode = m == "direct" ? ATMO_CLOUD_DRAW_DIRECT : m == "impostors" ? ATMO_CLOUD_DRAW_IMPOSTORS : ATMO_CLOUD_DRAW_LAYER;
+      mode = m == "direct"      ? ATMO_CLOUD_DRAW_DIRECT
+             : m == "impostors" ? ATMO_CLOUD_DRAW_IMPOSTORS
+             : m == "auto"      ? ATMO_CLOUD_DRAW_AUTO
+                                : ATMO_CLOUD_DRAW_LAYER;
       ++i;
     } else if (a == "--frames") {
       frames = std::max(1, std::atoi(v));

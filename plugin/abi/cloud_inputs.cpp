@@ -163,7 +163,15 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
   if (s.multiple_scattering_octaves) c.settings.octaves = static_cast<int>(s.multiple_scattering_octaves);
   if (s.light_update_threshold_deg > 0.0) c.settings.light_threshold_rad = s.light_update_threshold_deg * M_PI / 180.0;
   c.settings.direct_only = s.draw_mode == ATMO_CLOUD_DRAW_DIRECT;
-  c.settings.layer = s.draw_mode == ATMO_CLOUD_DRAW_LAYER;
+  // AUTO: the layer march for weather at scale. A layer wider than impostors' bound decides before the
+  // layers are made (the streamed decks come coarse first); a field that turns out to hold too many
+  // clouds, after (its decks are then made in full here: they are at most the bound's width).
+  const bool auto_mode = s.draw_mode == ATMO_CLOUD_DRAW_AUTO;
+  const auto too_wide = [](const AtmoCloudLayer& l) {
+    return l.type != ATMO_CLOUD_VDB_FILE && l.area_size_m > ATMO_CLOUD_AUTO_IMPOSTOR_AREA_M;
+  };
+  c.settings.layer = s.draw_mode == ATMO_CLOUD_DRAW_LAYER ||
+                     (auto_mode && std::any_of(layers.begin(), layers.end(), too_wide));
   c.settings.wait = s.setup == ATMO_CLOUD_SETUP_WAIT;
   clouds::ImpostorSettings& imp = c.settings.impostors;
   if (s.impostor_texels) imp.tile_texels = static_cast<int>(s.impostor_texels);
@@ -242,10 +250,11 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
     }
   }
   if (!result.ok()) return result;  // all or nothing: the clouds stay as they were
+  if (auto_mode && c.field.instances.size() > ATMO_CLOUD_AUTO_IMPOSTOR_CLOUDS) c.settings.layer = true;
   index_field(&c);
   // The full lighting waits for the first pass (and, streamed, for the
   // worker); the streamed layer march's draft gets its ambient depths now.
-  if (stream) prepare_draft(&c);
+  if (c.settings.layer && !c.settings.wait) prepare_draft(&c);
   c.version = out->version + 1;
   c.field_version = c.version;
   *out = std::move(c);  // (a move stops the jobs of both sides: the field job starts after it)

@@ -79,7 +79,8 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false);
   std::string draw_mode = sample::cloud_draw_mode_name(settings.clouds.draw_mode);
   app.add_option("--cloud-draw", draw_mode, "How the clouds pass draws")
-      ->check(CLI::IsMember({sample::cloud_draw_mode_name(ATMO_CLOUD_DRAW_IMPOSTORS),
+      ->check(CLI::IsMember({sample::cloud_draw_mode_name(ATMO_CLOUD_DRAW_AUTO),
+                             sample::cloud_draw_mode_name(ATMO_CLOUD_DRAW_IMPOSTORS),
                              sample::cloud_draw_mode_name(ATMO_CLOUD_DRAW_DIRECT),
                              sample::cloud_draw_mode_name(ATMO_CLOUD_DRAW_LAYER)}))
       ->capture_default_str();

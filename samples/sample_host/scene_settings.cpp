@@ -44,6 +44,7 @@ const char* cloud_type_name(AtmoCloudLayerType type) {
 
 const char* cloud_draw_mode_name(uint32_t mode) {
   switch (mode) {
+    case ATMO_CLOUD_DRAW_AUTO: return "auto";
     case ATMO_CLOUD_DRAW_IMPOSTORS: return "impostors";
     case ATMO_CLOUD_DRAW_DIRECT: return "direct";
     case ATMO_CLOUD_DRAW_LAYER: return "layer";

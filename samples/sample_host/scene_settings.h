@@ -34,7 +34,7 @@ struct CloudLayerSettings {
 // The weather: what set_clouds gets (SampleRenderer::set_clouds).
 struct CloudSettings {
   std::vector<CloudLayerSettings> layers;
-  AtmoCloudDrawMode draw_mode = ATMO_CLOUD_DRAW_IMPOSTORS;
+  AtmoCloudDrawMode draw_mode = ATMO_CLOUD_DRAW_AUTO;
   uint32_t march_resolution_divisor = 2;  // [1, 8]
   AtmoCloudQuality quality = ATMO_CLOUD_QUALITY_DEFAULT;  // the view's cloud_quality (the layer march)
   // The window streams (a draft first, no frame waits); headless screenshots

@@ -83,14 +83,17 @@ struct Scene {
     AtmoCloudsState s = atmo::make<AtmoCloudsState>(ATMO_TYPE_CLOUDS_STATE);
     s.origin_geodetic[0] = 47.26;
     s.origin_geodetic[1] = 11.35;
-    s.layers = &layer;
-    s.layer_count = 1;
+    std::vector<AtmoCloudLayer> all = {layer};
+    all.insert(all.end(), more_layers.begin(), more_layers.end());
+    s.layers = all.data();
+    s.layer_count = static_cast<uint32_t>(all.size());
     s.draw_mode = mode;
     s.setup = setup;
     s.impostor_updates_per_frame = updates_per_frame;
     ASSERT_EQ(f.context->set_clouds(s), ATMO_SUCCESS);
   }
 
+  std::vector<AtmoCloudLayer> more_layers;  // set_clouds passes these after `layer`
   uint32_t cloud_quality = ATMO_CLOUD_QUALITY_DEFAULT;  // the views' AtmoViewState.cloud_quality
   // AtmoCloudsState.setup: the tests compare frames, so by default each is a function of its inputs.
   uint32_t setup = ATMO_CLOUD_SETUP_WAIT;
@@ -132,6 +135,37 @@ struct Scene {
 
 double psnr(const atmo::support::Image& a, const atmo::support::Image& b) {
   return atmo::support::compare_images(a, b, 1.0).psnr_db;
+}
+
+// ATMO_CLOUD_DRAW_AUTO, the default (atmo.h): the very frames of impostors for a
+// small field; those of the layer march for a layer wider than
+// ATMO_CLOUD_AUTO_IMPOSTOR_AREA_M, and for a field of more than
+// ATMO_CLOUD_AUTO_IMPOSTOR_CLOUDS clouds none of which is that wide.
+TEST(CloudDrawAuto, ImpostorsForAFewCloudsTheLayerMarchAtScale) {
+  Scene s;
+  const auto frame_of = [&](uint32_t mode) {
+    s.set_clouds(mode);
+    return s.draw(0.0, 0.0, 1700.0);
+  };
+  const auto same = [](const atmo::support::Image& a, const atmo::support::Image& b) { return a.rgba == b.rgba; };
+  const atmo::support::Image small_auto = frame_of(ATMO_CLOUD_DRAW_AUTO);
+  EXPECT_TRUE(same(small_auto, frame_of(ATMO_CLOUD_DRAW_IMPOSTORS)));
+  EXPECT_FALSE(same(small_auto, frame_of(ATMO_CLOUD_DRAW_LAYER)));  // the two modes differ here
+  s.layer.area_size_m = 1.25 * ATMO_CLOUD_AUTO_IMPOSTOR_AREA_M;
+  const atmo::support::Image wide_auto = frame_of(ATMO_CLOUD_DRAW_AUTO);
+  EXPECT_TRUE(same(wide_auto, frame_of(ATMO_CLOUD_DRAW_LAYER)));
+  EXPECT_FALSE(same(wide_auto, frame_of(ATMO_CLOUD_DRAW_IMPOSTORS)));
+  // 8 oktas over 20 km twice, 1000-1800 and 2200-3000 m: more clouds than impostors' bound.
+  s.layer.area_size_m = ATMO_CLOUD_AUTO_IMPOSTOR_AREA_M;
+  s.layer.coverage_oktas = 8;
+  s.layer.base_m = 1000.0;
+  s.layer.top_m = 1800.0;
+  AtmoCloudLayer upper = s.layer;
+  upper.base_m = 2200.0;
+  upper.top_m = 3000.0;
+  s.more_layers = {upper};
+  const atmo::support::Image many_auto = frame_of(ATMO_CLOUD_DRAW_AUTO);
+  EXPECT_TRUE(same(many_auto, frame_of(ATMO_CLOUD_DRAW_LAYER)));
 }
 
 TEST(CloudImpostors, FreshImpostorsMatchTheDirectMarch) {

@@ -114,6 +114,7 @@ inline AtmoCloudsState clouds_at_innsbruck(const AtmoCloudLayer* layers, uint32_
   s.origin_geodetic[2] = 0.0;
   s.layers = layers;
   s.layer_count = count;
+  s.setup = ATMO_CLOUD_SETUP_WAIT;  // a frame is a function of its inputs, whatever mode AUTO picks
   return s;
 }
 

@@ -140,7 +140,8 @@ void set_clouds(const sc::Scenario& scenario, atmo::Context& context) {
   AtmoCloudsState state =
       atmo::clouds_state(scenario.location.latitude_deg, scenario.location.longitude_deg, scenario.location.height_m,
                          layers.data(), static_cast<uint32_t>(layers.size()));
-  static_assert(int(sc::CloudDrawMode::Impostors) == ATMO_CLOUD_DRAW_IMPOSTORS &&
+  static_assert(int(sc::CloudDrawMode::Auto) == ATMO_CLOUD_DRAW_AUTO &&
+                int(sc::CloudDrawMode::Impostors) == ATMO_CLOUD_DRAW_IMPOSTORS &&
                 int(sc::CloudDrawMode::Direct) == ATMO_CLOUD_DRAW_DIRECT &&
                 int(sc::CloudDrawMode::Layer) == ATMO_CLOUD_DRAW_LAYER);
   state.draw_mode = static_cast<uint32_t>(scenario.render.cloud_draw_mode);

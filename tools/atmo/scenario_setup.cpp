@@ -86,7 +86,9 @@ hs::ViewSetup view_setup_of(const sc::Scenario& s, size_t ci, hs::DepthConventio
   setup.viewport = {0, 0, cam.width, cam.height};
   setup.output_encoding = ATMO_OUTPUT_LINEAR_HDR;
   setup.exposure_scale = 1.0;  // the frame holds absolute cd/m^2; exposure is applied when writing the PNG
-  if (s.render.cloud_draw_mode == sc::CloudDrawMode::Layer) setup.cloud_quality = ATMO_CLOUD_QUALITY_HIGH;
+  // The layer march's still (explicit, or AUTO's choice for weather at scale): every pixel every frame.
+  if (s.render.cloud_draw_mode == sc::CloudDrawMode::Layer || s.render.cloud_draw_mode == sc::CloudDrawMode::Auto)
+    setup.cloud_quality = ATMO_CLOUD_QUALITY_HIGH;
   return setup;
 }
 

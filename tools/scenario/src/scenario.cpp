@@ -376,7 +376,7 @@ class Loader {
     if (auto x = r.choice("output", {"linear_hdr", "display_srgb"}, 0)) {
       rd->output = static_cast<OutputEncoding>(*x);
     }
-    if (auto x = r.choice("cloud_draw_mode", {"impostors", "direct", "layer"}, 0)) {
+    if (auto x = r.choice("cloud_draw_mode", {"auto", "direct", "layer", "impostors"}, 0)) {
       rd->cloud_draw_mode = static_cast<CloudDrawMode>(*x);
     }
   }

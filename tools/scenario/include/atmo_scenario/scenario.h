@@ -124,16 +124,16 @@ struct NightSky {
 
 enum class DepthConvention { Standard, Reversed, Logarithmic };
 enum class OutputEncoding { LinearHdr, DisplaySrgb };
-// AtmoCloudDrawMode's order. A still in Layer mode waits for the full
-// lighting (ATMO_CLOUD_SETUP_WAIT) and traces every pixel
+// AtmoCloudDrawMode's order. A still in Layer (or Auto) mode waits for the
+// full lighting (ATMO_CLOUD_SETUP_WAIT) and traces every pixel
 // (ATMO_CLOUD_QUALITY_HIGH), so it does not depend on earlier frames.
-enum class CloudDrawMode { Impostors, Direct, Layer };
+enum class CloudDrawMode { Auto, Direct, Layer, Impostors };
 
 struct Render {
   DepthConvention depth_convention = DepthConvention::Reversed;
   std::optional<double> exposure_ev100;  // [-20, 30]; absent: auto_exposure_ev100(sun)
   OutputEncoding output = OutputEncoding::LinearHdr;
-  CloudDrawMode cloud_draw_mode = CloudDrawMode::Impostors;
+  CloudDrawMode cloud_draw_mode = CloudDrawMode::Auto;
 };
 
 struct Outputs {
