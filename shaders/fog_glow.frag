@@ -12,6 +12,7 @@ uniform float u_min_sin;            // half a pixel's angle: the 1/gamma core av
 flat in vec4 v_light;
 flat in vec4 v_intensity;
 flat in vec4 v_axis;
+flat in float v_lobes;
 out vec4 out_color;
 
 void main() {
@@ -26,6 +27,6 @@ void main() {
   // In-scattering stops where the ray leaves the fog (eye inside it).
   if (u_fog_top < ATMO_FOG_FAR && u_fog_top > 0.0 && dir.z > 0.0) d_vp = min(d_vp, u_fog_top / dir.z);
   float la = atmo_fog_glow(u_fog_airlight, u_fog_airlight_size, v_light.w, v_light.xyz, dir, v_axis.xyz,
-                           v_intensity.w, v_axis.w, d_vp, u_min_sin);
+                           v_intensity.w, v_axis.w, v_lobes, d_vp, u_min_sin);
   out_color = vec4(encode_output(v_intensity.rgb * la), 0.0);
 }

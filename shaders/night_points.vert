@@ -15,6 +15,7 @@
 vec3 sample_lut(sampler2D lut, vec2 uv) { return textureLod(lut, uv, 0.0f).rgb; }
 
 #include "atmosphere/functions.glsl"
+#include "night_sky/pixel_solid_angle.glsl"
 
 layout(location = 0) in vec3 a_direction_enu;     // unit, ENU at the eye
 layout(location = 1) in vec3 a_illuminance_lux;   // outside the atmosphere, linear sRGB
@@ -51,23 +52,6 @@ vec3 point_transmittance(vec3 dir) {
   return transmittance_to_sun(u_atmosphere, u_transmittance, u_transmittance_size, r, mu);
 }
 
-// Solid angle (sr) of the pixel at NDC position ndc: the view-space ray
-// f(x, y) = h.xyz / h.w, h = u_view_from_clip (x, y, z_near, 1), spans
-// |f . (df/dx x df/dy)| / |f|^3 sr per unit NDC area, and a pixel is
-// (2 / width) x (2 / height) NDC units. Exact for any projective camera
-// (off-axis pixels shrink as cos^3 for a plain perspective).
-float pixel_solid_angle(vec2 ndc) {
-  float near_z = u_depth_convention == 1 ? 1.0f : -1.0f;
-  vec4 h = u_view_from_clip * vec4(ndc, near_z, 1.0f);
-  vec4 bx = u_view_from_clip[0];
-  vec4 by = u_view_from_clip[1];
-  vec3 f = h.xyz / h.w;
-  vec3 fx = (bx.xyz * h.w - h.xyz * bx.w) / (h.w * h.w);
-  vec3 fy = (by.xyz * h.w - h.xyz * by.w) / (h.w * h.w);
-  float len = length(f);
-  return abs(dot(f, cross(fx, fy))) / (len * len * len) * (4.0f / (u_viewport.z * u_viewport.w));
-}
-
 void cull() {
   gl_Position = vec4(4.0f, 4.0f, 0.5f, 1.0f);  // outside the x and y clip planes: discarded
   gl_PointSize = 1.0f;
@@ -85,7 +69,7 @@ void main() {
   if (!(clip.w > 0.0f)) { cull(); return; }  // behind the camera
   vec2 ndc = clip.xy / clip.w;
   vec2 center = u_viewport.xy + (ndc * 0.5f + 0.5f) * u_viewport.zw;
-  float omega = pixel_solid_angle(ndc);
+  float omega = pixel_solid_angle(u_view_from_clip, u_depth_convention, u_viewport.zw, ndc);
   if (!(omega > 0.0f)) { cull(); return; }
   v_center_px = center;
   v_radiance = a_illuminance_lux * transmittance / omega;

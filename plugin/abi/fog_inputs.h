@@ -1,6 +1,6 @@
-// fog_inputs.h — set_fog and set_lights: validation of the host's structs
-// into the context's fog medium and lights (core/fog/fog_frame.h, which also
-// makes one view's frame from them; docs/FOG.md).
+// fog_inputs.h — set_fog: validation of the host's struct into the context's
+// fog medium (core/fog/fog_frame.h, which also makes one view's frame of the
+// fog and the lights; docs/FOG.md). The lights: light_inputs.h.
 #pragma once
 
 #include "abi/validation.h"
@@ -11,7 +11,5 @@ namespace atmo::abi {
 
 // Validates and applies; on error nothing changes. Builds tables when the phase changes.
 Verdict set_fog_state(const AtmoFogState& s, fog::FogMedium* fog);
-// The lights array is read with light_size strides.
-Verdict set_lights_state(const AtmoLightsState& s, fog::FogLights* lights);
 
 }  // namespace atmo::abi

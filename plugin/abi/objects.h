@@ -11,6 +11,7 @@
 
 #include "abi/cloud_inputs.h"
 #include "abi/fog_inputs.h"
+#include "abi/light_inputs.h"
 #include "abi/host_services.h"
 #include "abi/table_builder.h"
 #include "atmo/atmo.h"
@@ -23,6 +24,7 @@
 #include "core/sky/sky_lighting.h"
 #include "gl/cloud_renderer.h"
 #include "gl/fog_renderer.h"
+#include "gl/light_point_renderer.h"
 #include "gl/night_renderer.h"
 #include "gl/renderer.h"
 
@@ -60,12 +62,14 @@ struct AtmoContext_T {
   atmo::abi::ContextClouds clouds;
   atmo::gl::CloudRenderer cloud_renderer;
 
-  // Fog (set_fog) and the host's lights (set_lights); their GL objects are
-  // built by the first fog pass or get_fog_lighting with fog.
+  // Fog (set_fog) and the host's lights (set_lights, update_lights,
+  // set_light_group_pose); their GL objects are built by the first pass or
+  // get_fog_lighting that needs them.
   atmo::fog::FogMedium fog;
-  atmo::fog::FogLights lights;
+  atmo::lights::LightSet lights;
   atmo::gl::FogRenderer fog_renderer;
-  uint64_t fog_serial = 0;  // bumps on every set_fog and set_lights (the views' fog frames follow)
+  atmo::gl::LightPointRenderer light_point_renderer;
+  uint64_t fog_serial = 0;  // bumps on every change of the fog or the lights (the views' fog frames follow)
 
   atmo::gl::Renderer renderer;
   // The night sky's point pass: its programs are built by the first night
@@ -123,6 +127,9 @@ struct AtmoView_T {
   // get_fog_lighting and the glow pass, and the serials it was made at.
   std::optional<atmo::fog::FogFrame> fog_frame;
   uint64_t fog_frame_context_serial = 0, fog_frame_view_serial = 0;
+  // The light points of this view's last pass (the buffer is reused) and what was culled.
+  std::vector<atmo::lights::LightPoint> light_points;
+  atmo::lights::LightPointStats light_point_stats;
 };
 
 namespace atmo::abi {

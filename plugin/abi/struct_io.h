@@ -34,6 +34,8 @@ ATMO_V1_SIZE(AtmoFogState, 64);
 ATMO_V1_SIZE(AtmoLightsState, 72);
 ATMO_V1_SIZE(AtmoFogLighting, 136);
 ATMO_V1_SIZE(AtmoLightPoint, 96);
+ATMO_V1_SIZE(AtmoLightGroupPose, 152);
+ATMO_V1_SIZE(AtmoLightsUpdate, 40);
 #undef ATMO_V1_SIZE
 
 struct ReadError {

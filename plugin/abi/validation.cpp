@@ -74,13 +74,6 @@ bool table_size(Verdict* v, const char* field, uint32_t value, uint32_t lo, uint
   return false;
 }
 
-glm::dmat4 matrix(const double m[16]) {
-  glm::dmat4 out;
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r) out[c][r] = m[c * 4 + r];
-  return out;
-}
-
 // view_from_world must be a rigid transform (docs/ABI.md): its upper 3x3 a
 // rotation, R R^T = I and det R = +1, each to kRotationTolerance (float
 // round-off of a host's matrices is ~1e-6), and its bottom row (0, 0, 0, 1).
@@ -103,7 +96,16 @@ double infinity_norm(const glm::dmat4& m) {
   return norm;
 }
 
-bool rigid_view(Verdict* v, const glm::dmat4& m) {
+}  // namespace
+
+glm::dmat4 matrix(const double m[16]) {
+  glm::dmat4 out;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) out[c][r] = m[c * 4 + r];
+  return out;
+}
+
+bool rigid_transform(Verdict* v, const glm::dmat4& m, const std::string& name) {
   const glm::dmat3 rot(m);
   double worst = 0.0;
   const glm::dmat3 gram = rot * glm::transpose(rot);
@@ -113,19 +115,19 @@ bool rigid_view(Verdict* v, const glm::dmat4& m) {
       if (std::isnan(e) || e > worst) worst = e;  // a NaN stays
     }
   if (!(worst <= kRotationTolerance)) {
-    *v = {ATMO_ERROR_OUT_OF_RANGE, "AtmoViewState.view_from_world: the upper 3x3 is not a rotation (max |R R^T - I| = " +
+    *v = {ATMO_ERROR_OUT_OF_RANGE, name + ": the upper 3x3 is not a rotation (max |R R^T - I| = " +
                                        number(worst) + ", tolerance " + number(kRotationTolerance) + ")"};
     return false;
   }
   if (!(glm::determinant(rot) > 0.0)) {
-    *v = {ATMO_ERROR_OUT_OF_RANGE, "AtmoViewState.view_from_world: the upper 3x3 is a reflection (det " +
+    *v = {ATMO_ERROR_OUT_OF_RANGE, name + ": the upper 3x3 is a reflection (det " +
                                        number(glm::determinant(rot)) + "), not a rotation"};
     return false;
   }
   const double bottom[4] = {m[0][3], m[1][3], m[2][3], m[3][3] - 1.0};
   for (int c = 0; c < 4; ++c) {
     if (!(std::abs(bottom[c]) <= kRotationTolerance)) {
-      *v = {ATMO_ERROR_OUT_OF_RANGE, "AtmoViewState.view_from_world[" + std::to_string(c * 4 + 3) + "] = " +
+      *v = {ATMO_ERROR_OUT_OF_RANGE, name + "[" + std::to_string(c * 4 + 3) + "] = " +
                                          number(c == 3 ? m[3][3] : bottom[c]) +
                                          ": the bottom row must be (0, 0, 0, 1)"};
       return false;
@@ -133,6 +135,8 @@ bool rigid_view(Verdict* v, const glm::dmat4& m) {
   }
   return true;
 }
+
+namespace {
 
 bool well_conditioned_projection(Verdict* v, const glm::dmat4& p) {
   const glm::dmat4 inverse = glm::inverse(p);
@@ -226,7 +230,7 @@ Verdict validate_view(const AtmoViewState& s, core::EyeFrame* out) {
     return v;
   cam.view_from_world = matrix(s.view_from_world);
   cam.clip_from_view = matrix(s.clip_from_view);
-  if (!rigid_view(&v, cam.view_from_world) || !well_conditioned_projection(&v, cam.clip_from_view)) return v;
+  if (!rigid_transform(&v, cam.view_from_world, "AtmoViewState.view_from_world") || !well_conditioned_projection(&v, cam.clip_from_view)) return v;
 
   if (s.viewport[2] <= 0 || s.viewport[3] <= 0 || s.viewport[2] > 32768 || s.viewport[3] > 32768 ||
       s.viewport[0] < 0 || s.viewport[1] < 0) {

@@ -22,6 +22,12 @@ Verdict validate_frame(const AtmoFrameState& s);
 // Fills the eye frame (double precision) from a valid view state.
 Verdict validate_view(const AtmoViewState& s, core::EyeFrame* out);
 
+// A column-major 4x4 of the ABI (element [col * 4 + row]).
+glm::dmat4 matrix(const double m[16]);
+// True when m is rigid (docs/ABI.md: the upper 3x3 a rotation to 1e-3, det > 0, the bottom row (0, 0, 0, 1));
+// else fills *v with an error naming `name`.
+bool rigid_transform(Verdict* v, const glm::dmat4& m, const std::string& name);
+
 // Default exposure when exposure_scale is 0: EV100 = 15.
 constexpr double kDefaultExposureScale = 1.0 / (1.2 * 32768.0);
 

@@ -12,7 +12,7 @@ namespace {
 
 constexpr GLuint kAirlightUnit = kPassUnitsUsed;  // after the sky passes' units
 constexpr int kUnitsUsed = static_cast<int>(kAirlightUnit) + 1;
-constexpr int kInstanceFloats = 16;  // rect, light, intensity, axis
+constexpr int kInstanceFloats = 20;  // rect, light, intensity, axis, cone lobes
 
 // Under a GlStateGuard, whose baseline unbinds any host PBO and sets tight unpacking.
 void upload_r32f(GLuint* texture, const fog::FogTable& t) {
@@ -90,7 +90,7 @@ bool FogRenderer::build_programs(std::string* error) {
   glGenBuffers(1, &instance_buffer_);
   glBindVertexArray(vao_);
   glBindBuffer(GL_ARRAY_BUFFER, instance_buffer_);
-  for (GLuint a = 0; a < 4; ++a) {
+  for (GLuint a = 0; a < 5; ++a) {
     glEnableVertexAttribArray(a);
     glVertexAttribPointer(a, 4, GL_FLOAT, GL_FALSE, kInstanceFloats * sizeof(float),
                           reinterpret_cast<const void*>(static_cast<uintptr_t>(a * 4 * sizeof(float))));
@@ -135,6 +135,7 @@ bool FogRenderer::draw(const Renderer&, const PassInputs& in, const FogDrawInput
     const glm::vec3 i = l.intensity_cd * fog.albedo;
     instances_.insert(instances_.end(), {i.x, i.y, i.z, l.cos_inner});
     instances_.insert(instances_.end(), {l.axis_enu.x, l.axis_enu.y, l.axis_enu.z, l.cos_outer});
+    instances_.insert(instances_.end(), {l.lobes, 0.0f, 0.0f, 0.0f});
     ++stats_.glows_drawn;
     stats_.covered_pixels += (r.z - r.x) * half_w * (r.w - r.y) * half_h;
   }
@@ -187,7 +188,7 @@ bool FogRenderer::upload_host_lights(const fog::FogFrame& frame, const glm::dmat
     const glm::vec3 p(world_from_enu * glm::dvec3(l.position_enu_m));
     const glm::vec3 axis(world_from_enu * glm::dvec3(l.axis_enu));
     const float t[16] = {p.x, p.y, p.z, range_m[i], l.intensity_cd.x, l.intensity_cd.y, l.intensity_cd.z, l.cos_inner,
-                         axis.x, axis.y, axis.z, l.cos_outer, 0.0f, 0.0f, 0.0f, 0.0f};
+                         axis.x, axis.y, axis.z, l.cos_outer, l.lobes, 0.0f, 0.0f, 0.0f};
     std::copy(t, t + 16, texels.begin() + static_cast<std::ptrdiff_t>(i * 16));
   }
   GlStateGuard guard(1);

@@ -16,9 +16,6 @@ namespace atmo::gl {
 
 namespace {
 constexpr int kUnitsUsed = kPassUnitsUsed;
-constexpr std::size_t kMinCapacity = 1024;
-// GL_POINT_SMOOTH: compatibility-profile state, absent from the core header.
-constexpr GLenum kPointSmooth = 0x0B10;
 }  // namespace
 
 int NightRenderer::point_size_px() { return 2 * core::night::kStarFootprintRadiusPx + 1; }
@@ -36,25 +33,13 @@ bool NightRenderer::init(std::string* error) {
       return false;
     }
   }
-  GLfloat range[2] = {0.0f, 0.0f};
-  glGetFloatv(GL_POINT_SIZE_RANGE, range);
-  max_point_size_ = range[1];
-  // A compatibility context has smooth (round, antialiased) points, which
-  // would cut the footprint's corners: the pass switches them off.
-  GLint profile = 0;
-  glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
-  compatibility_ = (profile & GL_CONTEXT_COMPATIBILITY_PROFILE_BIT) != 0;
-  glGenVertexArrays(1, &vao_);
-  glGenBuffers(1, &vbo_);
-  glBindVertexArray(vao_);
-  glBindBuffer(GL_ARRAY_BUFFER, vbo_);
-  constexpr GLsizei stride = sizeof(core::night::PointSource);
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride,
-                        reinterpret_cast<const void*>(offsetof(core::night::PointSource, direction_enu)));
-  glEnableVertexAttribArray(1);
-  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride,
-                        reinterpret_cast<const void*>(offsetof(core::night::PointSource, illuminance_rgb_lux)));
+  std::string sprites_error;
+  if (!sprites_.init(sizeof(core::night::PointSource), offsetof(core::night::PointSource, direction_enu),
+                     offsetof(core::night::PointSource, illuminance_rgb_lux), &sprites_error)) {
+    if (error) *error = "night renderer: " + sprites_error;
+    destroy();
+    return false;
+  }
   create_pass_samplers(&linear_sampler_, &nearest_sampler_);
   std::string gl_error;
   if (!check_gl("creating the night renderer's objects", &gl_error)) {
@@ -82,8 +67,7 @@ bool NightRenderer::build(Program* p, SkyMethod method, std::string* error) {
 void NightRenderer::destroy() {
   for (Program& p : programs_)
     if (p.program) glDeleteProgram(p.program);
-  if (vao_) glDeleteVertexArrays(1, &vao_);
-  if (vbo_) glDeleteBuffers(1, &vbo_);
+  sprites_.destroy();
   if (linear_sampler_) glDeleteSamplers(1, &linear_sampler_);
   if (nearest_sampler_) glDeleteSamplers(1, &nearest_sampler_);
   forget();
@@ -91,10 +75,8 @@ void NightRenderer::destroy() {
 
 void NightRenderer::forget() {
   for (Program& p : programs_) p = Program{};
-  vao_ = vbo_ = linear_sampler_ = nearest_sampler_ = 0;
-  vbo_capacity_ = 0;
-  max_point_size_ = 0.0f;
-  compatibility_ = false;
+  sprites_.forget();
+  linear_sampler_ = nearest_sampler_ = 0;
 }
 
 bool NightRenderer::draw_points(const PassInputs& in, const NightSkyTextures& textures,
@@ -105,8 +87,8 @@ bool NightRenderer::draw_points(const PassInputs& in, const NightSkyTextures& te
     return false;
   }
   const float point_size = static_cast<float>(point_size_px());
-  if (max_point_size_ < point_size) {
-    if (error) *error = "night renderer: the GL implementation's largest point (" + std::to_string(max_point_size_) +
+  if (sprites_.max_point_size() < point_size) {
+    if (error) *error = "night renderer: the GL implementation's largest point (" + std::to_string(sprites_.max_point_size()) +
                         " px) is smaller than the star footprint (" + std::to_string(point_size) + " px)";
     return false;
   }
@@ -124,22 +106,6 @@ bool NightRenderer::draw_points(const PassInputs& in, const NightSkyTextures& te
   {
     GlStateGuard guard(kUnitsUsed);
     guard.use_single_draw_buffer();
-    // State the guard does not cover.
-    const GLboolean program_point_size = glIsEnabled(GL_PROGRAM_POINT_SIZE);
-    const GLboolean point_smooth = compatibility_ ? glIsEnabled(kPointSmooth) : GL_FALSE;
-    GLint scissor_box[4] = {0, 0, 0, 0};
-    glGetIntegerv(GL_SCISSOR_BOX, scissor_box);
-
-    // The sources, streamed (the buffer is orphaned every frame).
-    glBindBuffer(GL_ARRAY_BUFFER, vbo_);
-    if (count > vbo_capacity_) {
-      vbo_capacity_ = std::max({count, 2 * vbo_capacity_, kMinCapacity});
-      ++counters_.buffer_reallocations;
-    }
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vbo_capacity_ * sizeof(core::night::PointSource)), nullptr,
-                 GL_STREAM_DRAW);
-    glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(count * sizeof(core::night::PointSource)), sources);
-
     glUseProgram(p.program);
     // The sky under a star, as the sky pass drew it (display output only): its night terms too.
     NightTerms night = display ? in.night : NightTerms{};
@@ -164,23 +130,14 @@ bool NightRenderer::draw_points(const PassInputs& in, const NightSkyTextures& te
     bind(kSkyViewUnit, display ? textures.sky_view : 0, linear_sampler_);
     bind(kMoonSkyViewUnit, display ? textures.moon_sky_view : 0, linear_sampler_);
 
-    glEnable(GL_PROGRAM_POINT_SIZE);
-    if (point_smooth) glDisable(kPointSmooth);
-    glViewport(in.viewport[0] - m, in.viewport[1] - m, in.viewport[2] + 2 * m, in.viewport[3] + 2 * m);
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(in.viewport[0], in.viewport[1], in.viewport[2], in.viewport[3]);
     glEnablei(GL_BLEND, 0);
     if (display) set_blend_of_buffer0(GL_ONE, GL_ONE, GL_ONE, GL_ONE, GL_MAX, GL_MAX);
     else set_blend_of_buffer0(GL_ONE, GL_ONE, GL_ZERO, GL_ONE, GL_FUNC_ADD, GL_FUNC_ADD);
-    glBindVertexArray(vao_);
-    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(count));
-
-    if (!program_point_size) glDisable(GL_PROGRAM_POINT_SIZE);
-    if (point_smooth) glEnable(kPointSmooth);
-    glScissor(scissor_box[0], scissor_box[1], scissor_box[2], scissor_box[3]);
+    sprites_.draw(sources, count, in.viewport, m);
   }
   ++counters_.draws;
   counters_.sources_drawn += count;
+  counters_.buffer_reallocations = sprites_.buffer_reallocations();
   return check_gl("drawing the night sky's point sources", error);
 }
 

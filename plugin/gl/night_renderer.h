@@ -30,6 +30,7 @@
 #include "gl/renderer.h"
 
 #include "gl/pass_uniforms.h"
+#include "gl/point_sprites.h"
 
 namespace atmo::gl {
 
@@ -79,10 +80,8 @@ class NightRenderer {
 
   static constexpr int kMethods = 3;
   Program programs_[kMethods];
-  GLuint vao_ = 0, vbo_ = 0, linear_sampler_ = 0, nearest_sampler_ = 0;
-  std::size_t vbo_capacity_ = 0;  // sources
-  float max_point_size_ = 0.0f;
-  bool compatibility_ = false;  // compatibility profile: GL_POINT_SMOOTH exists and is switched off while drawing
+  PointSprites sprites_;
+  GLuint linear_sampler_ = 0, nearest_sampler_ = 0;
   Counters counters_;
 };
 

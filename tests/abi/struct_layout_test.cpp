@@ -14,10 +14,17 @@ TEST(StructLayout, Version1SizesAreFrozen) {
   EXPECT_EQ(sizeof(AtmoNegotiateInfo), V1Size<AtmoNegotiateInfo>::value);
   // The function table grew at its end (set_clouds); 144-byte hosts get no clouds.
   EXPECT_EQ(V1Size<AtmoPluginApi>::value, 144u);
-  EXPECT_EQ(sizeof(AtmoPluginApi), 184u);  // 160 with get_cloud_shadows, then set_fog, set_lights, get_fog_lighting
+  // 160 with get_cloud_shadows, 184 with set_fog, set_lights, get_fog_lighting; then the light groups' two
+  EXPECT_EQ(sizeof(AtmoPluginApi), 200u);
   EXPECT_EQ(sizeof(AtmoFogState), V1Size<AtmoFogState>::value);
-  EXPECT_EQ(sizeof(AtmoLightsState), V1Size<AtmoLightsState>::value);
-  EXPECT_EQ(sizeof(AtmoLightPoint), 96u);  // the array's stride is AtmoLightsState.light_size
+  // AtmoLightsState grew at its end (group, visual_threshold_lux); 72-byte hosts replace group 0.
+  EXPECT_EQ(V1Size<AtmoLightsState>::value, 72u);
+  EXPECT_EQ(sizeof(AtmoLightsState), 88u);
+  // The array's stride is AtmoLightsState.light_size: 96-byte lights read flags 0.
+  EXPECT_EQ(V1Size<AtmoLightPoint>::value, 96u);
+  EXPECT_EQ(sizeof(AtmoLightPoint), 104u);
+  EXPECT_EQ(sizeof(AtmoLightGroupPose), V1Size<AtmoLightGroupPose>::value);
+  EXPECT_EQ(sizeof(AtmoLightsUpdate), V1Size<AtmoLightsUpdate>::value);
   EXPECT_EQ(sizeof(AtmoFogLighting), V1Size<AtmoFogLighting>::value);
   EXPECT_EQ(sizeof(AtmoCloudShadows), V1Size<AtmoCloudShadows>::value);
   EXPECT_EQ(sizeof(AtmoCloudLayer), V1Size<AtmoCloudLayer>::value);
@@ -48,6 +55,9 @@ TEST(StructLayout, Version1OffsetsAreFrozen) {
   EXPECT_EQ(offsetof(AtmoCloudsState, setup), 120u);
   EXPECT_EQ(offsetof(AtmoCloudsState, layer_size), 68u);  // the version-1 `reserved` (0: the version-1 stride)
   EXPECT_EQ(offsetof(AtmoLightsState, light_size), 20u);
+  EXPECT_EQ(offsetof(AtmoLightsState, group), 72u);
+  EXPECT_EQ(offsetof(AtmoLightPoint, flags), 96u);
+  EXPECT_EQ(offsetof(AtmoPluginApi, set_light_group_pose), 184u);
   EXPECT_EQ(offsetof(AtmoHostServices, gl_get_proc_address), 72u);
   EXPECT_EQ(offsetof(AtmoFrameState, utc_posix_s), 24u);
   EXPECT_EQ(offsetof(AtmoViewState, eye_ecef_m), 24u);

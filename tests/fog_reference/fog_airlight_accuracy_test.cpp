@@ -390,7 +390,7 @@ TEST(FogAirlightAccuracy, SmallAnglesLoseSinGammaToTheFloatCosine) {
     const float sg = std::sqrt(std::max(1.0f - cg * cg, 0.0f));
     const float la = plugin_airlight(table, kBeta, d, gamma, kInf, 0.0f);
     const float glow = tw::atmo_fog_glow(table, 64.0f, static_cast<float>(kBeta), vec3(d * l), vec3(dir),
-                                         vec3(0, 0, -1), -2.0f, -2.0f, tw::ATMO_FOG_FAR, 0.0f);
+                                         vec3(0, 0, -1), -2.0f, -2.0f, 1.0f, tw::ATMO_FOG_FAR, 0.0f);
     const double e_la = std::abs(la / ref - 1.0), e_glow = std::abs(glow / ref - 1.0);
     std::printf("    %-12g  %+8.3f %%          %7.3f %%      %7.3f %%\n", gd, 100 * (sg / std::sin(gamma) - 1.0),
                 100 * e_la, 100 * e_glow);
@@ -522,7 +522,7 @@ std::vector<ConeStats> cone_errors(double g) {
             const double omni = fr::single_scattering_radiance(m, omni_light, dvec3(0.0), dir_ref, d_vp, kRefTol);
             const float glow = tw::atmo_fog_glow(table, 64.0f, static_cast<float>(kBeta), vec3(light.position_m),
                                                  vec3(dir), vec3(ax.axis), static_cast<float>(cos_inner),
-                                                 static_cast<float>(cos_outer), far_or(d_vp), kMinSin);
+                                                 static_cast<float>(cos_outer), 1.0f, far_or(d_vp), kMinSin);
             EXPECT_TRUE(std::isfinite(glow) && glow >= 0.0f);
             if (ref > 1e-3 * omni) rel.push_back(std::abs(glow / ref - 1.0));
             if (ref > 1e-3 * omni || glow > 0.0f) omni_err.push_back(std::abs(glow - ref) / omni);
@@ -575,8 +575,8 @@ TEST(FogGlowLimits, NoFogGivesNoLight) {
         EXPECT_EQ(tw::atmo_fog_airlight(table, 64.0f, 0.0f, d, cg, d_vp, kMinSin), 0.0f) << d << " " << cg;
         const vec3 to_light(d, 0.0f, 0.0f), dir(cg, std::sqrt(1.0f - cg * cg), 0.0f);
         for (float cos_outer : {-2.0f, 0.9f})  // omni, cone
-          EXPECT_EQ(tw::atmo_fog_glow(table, 64.0f, 0.0f, to_light, dir, vec3(-1, 0, 0), 0.98f, cos_outer, d_vp,
-                                      kMinSin),
+          EXPECT_EQ(tw::atmo_fog_glow(table, 64.0f, 0.0f, to_light, dir, vec3(-1, 0, 0), 0.98f, cos_outer, 1.0f,
+                                      d_vp, kMinSin),
                     0.0f);
       }
   // And the reference agrees.
@@ -600,7 +600,7 @@ TEST(FogGlowLimits, GlowFallsMonotonicallyWithAngleFromTheLight) {
         const double gamma = deg(0.01 * i);
         const vec3 dir(static_cast<float>(std::cos(gamma)), static_cast<float>(std::sin(gamma)), 0.0f);
         const float glow = tw::atmo_fog_glow(table, 64.0f, static_cast<float>(kBeta), vec3(d, 0.0f, 0.0f), dir,
-                                             vec3(0, 0, -1), -2.0f, -2.0f, tw::ATMO_FOG_FAR, kMinSin);
+                                             vec3(0, 0, -1), -2.0f, -2.0f, 1.0f, tw::ATMO_FOG_FAR, kMinSin);
         ASSERT_TRUE(std::isfinite(glow) && glow >= 0.0f);
         ++checked;
         if (glow > previous) {
@@ -656,7 +656,7 @@ TEST(FogGlowLimits, ExtremeThicknessAndDistancesStayFiniteAndNonNegative) {
           if (d <= 1e18f)
             for (float cos_outer : {-2.0f, 0.9f})
               values.push_back(tw::atmo_fog_glow(table, 64.0f, beta, vec3(d, 0.0f, 0.0f), dir, vec3(-1, 0, 0), 0.98f,
-                                                 cos_outer, d_vp, kMinSin));
+                                                 cos_outer, 1.0f, d_vp, kMinSin));
           for (float v : values) {
             const bool ok = std::isfinite(v) && v >= 0.0f;
             if (in_domain) {
@@ -669,7 +669,7 @@ TEST(FogGlowLimits, ExtremeThicknessAndDistancesStayFiniteAndNonNegative) {
           }
         }
   const float far_glow = tw::atmo_fog_glow(table, 64.0f, 0.01f, vec3(1e20f, 0.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f),
-                                           vec3(-1, 0, 0), -2.0f, -2.0f, tw::ATMO_FOG_FAR, kMinSin);
+                                           vec3(-1, 0, 0), -2.0f, -2.0f, 1.0f, tw::ATMO_FOG_FAR, kMinSin);
   const float nan_case = tw::atmo_fog_airlight(table, 64.0f, 1e-6f, 1e18f, 1.0f, 1e29f, kMinSin);
   std::printf("[ measured ] beyond beta D = 1e8: %d of %d evaluations NaN or < 0 (e.g. airlight(beta 1e-6, D 1e18, "
               "cos 1, D_vp 1e29) = %g); glow of a light 1e20 m away: %g\n", nan_beyond, beyond, nan_case, far_glow);

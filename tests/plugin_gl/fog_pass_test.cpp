@@ -208,9 +208,9 @@ TEST(FogPass, InvalidStatesAreRejectedWithTheFieldNamed) {
     n.s = lights_of({});
     n.s.light_count = 3;
     cases.push_back(n);
-    LightCase m{"too many", {good}, {}, ATMO_ERROR_OUT_OF_RANGE, "light_count = 20000"};
+    LightCase m{"too many", {good}, {}, ATMO_ERROR_OUT_OF_RANGE, "light_count = 65537"};
     m.s = lights_of(m.lights);
-    m.s.light_count = 20000;  // rejected before the array is read
+    m.s.light_count = ATMO_LIGHTS_MAX + 1;  // rejected before the array is read
     cases.push_back(m);
     LightCase t{"NaN threshold", {good}, {}, ATMO_ERROR_NON_FINITE_VALUE, "glow_threshold_cd_m2 = nan"};
     t.s = lights_of(t.lights, std::nan(""));
@@ -324,10 +324,10 @@ void check_glow_against_twin(double geometry_depth_m) {
         const float ci = cone ? std::cos(float(l.cone_inner_rad)) : -2.0f;
         const float co = cone ? std::cos(float(l.cone_outer_rad)) : -2.0f;
         expected += albedo * l.intensity_cd *
-                    twin::atmo_fog_glow(table, 64.0f, float(beta), to_light, dir, axis, ci, co, d_vp, min_sin);
+                    twin::atmo_fog_glow(table, 64.0f, float(beta), to_light, dir, axis, ci, co, 1.0f, d_vp, min_sin);
         unoccluded += albedo * l.intensity_cd *
-                      twin::atmo_fog_glow(table, 64.0f, float(beta), to_light, dir, axis, ci, co, twin::ATMO_FOG_FAR,
-                                          min_sin);
+                      twin::atmo_fog_glow(table, 64.0f, float(beta), to_light, dir, axis, ci, co, 1.0f,
+                                          twin::ATMO_FOG_FAR, min_sin);
       }
       if (d_vp < twin::ATMO_FOG_FAR) {
         sum_occluded += expected;
@@ -395,12 +395,12 @@ glm::vec3 surface_on_cpu(const AtmoFogLighting& fl, const atmo::fog::FogTable& t
   glm::vec3 sum(0.0f);
   for (uint32_t i = 0; i < fl.light_count; ++i) {
     auto texel = [&](int c) { return glm::make_vec4(&texels[(size_t(i) * 4 + c) * 4]); };
-    const glm::vec4 t0 = texel(0), t1 = texel(1), t2 = texel(2);
+    const glm::vec4 t0 = texel(0), t1 = texel(1), t2 = texel(2), t3 = texel(3);
     const glm::vec3 to_light = glm::vec3(t0) - p;
     const float d = glm::length(to_light);
     if (d > t0.w) continue;
     const glm::vec3 l = to_light / std::max(d, 1e-3f);
-    const float cone = twin::atmo_fog_cone(glm::vec3(t2), t1.w, t2.w, -l);
+    const float cone = twin::atmo_fog_cone(glm::vec3(t2), t1.w, t2.w, t3.x, -l);
     if (cone <= 0.0f) continue;
     const float beta = float(fl.medium[0]) * twin::atmo_fog_inside_fraction(glm::dot(p, up), glm::dot(glm::vec3(t0), up),
                                                                            float(fl.medium[2]));

@@ -619,17 +619,23 @@ AtmoFrameState night_frame() {
 std::string give_every_pass_work(const AtmoPluginApi& api, AtmoContext context) {
   auto fog = make<AtmoFogState>(ATMO_TYPE_FOG_STATE);
   fog.visibility_m = 3000.0;
-  static AtmoLightPoint lamp{};  // copied by set_lights
-  lamp.position_m[1] = 400.0;   // 400 m north of the origin, on the ground (the eye is 600 m up)
-  lamp.intensity_cd = 1e5;
-  lamp.color[0] = lamp.color[1] = lamp.color[2] = 1.0;
+  // A lamp 400 m north of the origin, on the ground (the eye is 600 m up), glowing in the fog, and a beacon
+  // 5 km north at the eye's height, drawn as a point against the sky.
+  static AtmoLightPoint lamps[2] = {};  // copied by set_lights
+  lamps[0].position_m[1] = 400.0;
+  lamps[1].position_m[1] = 5000.0;
+  lamps[1].position_m[2] = 600.0;
+  for (AtmoLightPoint& lamp : lamps) {
+    lamp.intensity_cd = 1e5;
+    lamp.color[0] = lamp.color[1] = lamp.color[2] = 1.0;
+  }
   auto lights = make<AtmoLightsState>(ATMO_TYPE_LIGHTS_STATE);
   lights.world_frame = ATMO_WORLD_ENU;
   lights.light_size = sizeof(AtmoLightPoint);
   lights.world_origin_geodetic[0] = 47.26;
   lights.world_origin_geodetic[1] = 11.35;
-  lights.lights = &lamp;
-  lights.light_count = 1;
+  lights.lights = lamps;
+  lights.light_count = 2;
   auto layer = make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
   layer.type = ATMO_CLOUD_CUMULUS;
   layer.coverage_oktas = 4;  // a few small clouds ahead, 200-800 m above the eye: cheap to draw on llvmpipe
@@ -651,7 +657,8 @@ std::string give_every_pass_work(const AtmoPluginApi& api, AtmoContext context) 
   return {};
 }
 
-const char* const kPassNames[] = {"sky", "aerial perspective", "clouds", "night sky", "light glows"};
+const char* const kPassNames[] = {"sky", "aerial perspective", "clouds", "night sky", "light glows", "light points"};
+static_assert(sizeof(kPassNames) / sizeof(kPassNames[0]) == ATMO_PASS_COUNT, "a name for every pass");
 
 // Pending GL error flags, drained (each flag once).
 std::vector<GLenum> take_gl_errors() {

@@ -130,6 +130,8 @@ typedef enum AtmoStructType {
   ATMO_TYPE_FOG_STATE = 0x4154000E,
   ATMO_TYPE_LIGHTS_STATE = 0x4154000F,
   ATMO_TYPE_FOG_LIGHTING = 0x41540010,
+  ATMO_TYPE_LIGHT_GROUP_POSE = 0x41540011,
+  ATMO_TYPE_LIGHTS_UPDATE = 0x41540012,
   ATMO_TYPE_MAX_ENUM = 0x7fffffff
 } AtmoStructType;
 
@@ -446,7 +448,17 @@ typedef enum AtmoPass {
      pass). ATMO_STATUS_NOTHING_TO_DRAW, with no GL call, without fog.
      docs/FOG.md. */
   ATMO_PASS_LIGHT_GLOWS = 4,
-  ATMO_PASS_COUNT = 5
+  /* The host's lights (set_lights) as points: each light's direct image, its
+     illuminance at the eye I T / d^2 (the air's and the fog's transmittance T
+     along the way, the cone towards the eye) spread over a few pixels, where
+     the host's geometry does not hide it. A light is drawn where that
+     illuminance exceeds the eye's threshold (Allard's law; night ~8e-7 lx,
+     day 1e-4 lx: AtmoLightsState.visual_threshold_lux), so a light dimmer
+     than the sky behind it costs nothing. Needs no fog. Call after
+     ATMO_PASS_LIGHT_GLOWS (the points carry their own fog). NOTHING_TO_DRAW,
+     with no GL call, when no light is visible. docs/FOG.md. */
+  ATMO_PASS_LIGHT_POINTS = 5,
+  ATMO_PASS_COUNT = 6
 } AtmoPass;
 
 typedef struct AtmoPassInfo {
@@ -630,6 +642,17 @@ typedef struct AtmoFogState {
   uint32_t airlight_table_size;
 } AtmoFogState;
 
+/* The most lights a context holds, all groups together, and the group numbers. */
+#define ATMO_LIGHTS_MAX 65536u
+#define ATMO_LIGHT_GROUPS_MAX 4096u
+
+/* AtmoLightPoint.flags */
+typedef enum AtmoLightFlags {
+  /* The cone shines both ways along its axis (a runway edge light seen from
+     either end); needs cone_outer_rad <= pi/2. */
+  ATMO_LIGHT_BIDIRECTIONAL = 1u
+} AtmoLightFlags;
+
 /* One light of the host's (an approach light, a street lamp, a headlight). */
 typedef struct AtmoLightPoint {
   double position_m[3];         /* in the lights' world frame (AtmoLightsState.world_frame), metres, each [-1e9, 1e9] */
@@ -642,23 +665,65 @@ typedef struct AtmoLightPoint {
   double direction[3];          /* cone axis, world axes; need not be unit */
   double cone_inner_rad;
   double cone_outer_rad;
+  /* --- Grew after the 96-byte layout (light_size 96 reads these as 0) --- */
+  uint32_t flags;               /* AtmoLightFlags */
+  uint32_t reserved;            /* 0 */
 } AtmoLightPoint;
 
+/* The lights of one group (set_lights replaces one group's lights). A group
+   is the host's unit of change: an airport's edge lights, a town, a vehicle's
+   lights. A group's lights are given in its own frame: world = the group's
+   pose (set_light_group_pose; identity until set) times the position. */
 typedef struct AtmoLightsState {
   AtmoStructHeader header;      /* ATMO_TYPE_LIGHTS_STATE */
-  uint32_t world_frame;         /* AtmoWorldFrame of the positions and axes */
+  uint32_t world_frame;         /* AtmoWorldFrame of the positions and axes (after the group's pose) */
   /* sizeof(AtmoLightPoint) as the host compiled it: the lights' stride
      (ARRAYS above); 0: 96 (version 1). */
   uint32_t light_size;
   double world_origin_geodetic[3]; /* ATMO_WORLD_ENU: the frame's origin (lat deg, lon deg, h m) */
   const AtmoLightPoint* lights; /* light_count entries, light_size bytes apart; copied */
-  uint32_t light_count;         /* [0, 16 384]; 0: no lights (no glow cost) */
+  /* [0, ATMO_LIGHTS_MAX]; 0 empties the group. All groups together hold at
+     most ATMO_LIGHTS_MAX lights (a call that would pass it is refused). */
+  uint32_t light_count;
   uint32_t reserved;            /* 0 */
   /* Glows dimmer than this are not drawn (each light's glow is drawn only
      where it may exceed it: docs/FOG.md), cd/m^2. 0: default, 1/2000 of the
-     view's white (1 / exposure_scale). */
+     view's white (1 / exposure_scale). Context-wide: the last set_lights sets it. */
   double glow_threshold_cd_m2;
+  /* --- Grew after the 72-byte layout (such a host replaces group 0 and gets the defaults) --- */
+  uint32_t group;               /* the group these lights replace, [0, ATMO_LIGHT_GROUPS_MAX) */
+  uint32_t reserved2;           /* 0 */
+  /* The eye's threshold illuminance (Allard's law), lux: a light point whose
+     illuminance at the eye is below it is not drawn (ATMO_PASS_LIGHT_POINTS).
+     0: default, from the luminance B of the sky behind the lights, the
+     ICAO classes (night B <= 50 cd/m^2: 8e-7 lx; 1e-5 lx at 1 000 cd/m^2;
+     1e-4 lx at 12 000; 1e-3 lx in sunlit fog) joined log-linearly
+     (docs/FOG.md). [0, 1]. Context-wide: the last set_lights sets it. */
+  double visual_threshold_lux;
 } AtmoLightsState;
+
+/* Moves a whole group (a vehicle's lights) without re-sending them: its
+   lights' world positions and axes become world_from_group times what
+   set_lights gave. */
+typedef struct AtmoLightGroupPose {
+  AtmoStructHeader header;      /* ATMO_TYPE_LIGHT_GROUP_POSE */
+  uint32_t group;               /* a group set_lights filled */
+  uint32_t reserved;            /* 0 */
+  /* Column-major 4x4, rigid: the upper 3x3 a rotation (to 1e-3, det > 0), the
+     bottom row (0, 0, 0, 1), the translation within [-1e9, 1e9] m; in the
+     group's world frame (AtmoLightsState.world_frame). */
+  double world_from_group[16];
+} AtmoLightGroupPose;
+
+/* Replaces some lights of a group in place (lights that move each frame). */
+typedef struct AtmoLightsUpdate {
+  AtmoStructHeader header;      /* ATMO_TYPE_LIGHTS_UPDATE */
+  uint32_t group;               /* a group set_lights filled */
+  uint32_t first;               /* the group's first light to replace */
+  const AtmoLightPoint* lights; /* light_count entries, light_size bytes apart; copied */
+  uint32_t light_count;         /* [first, first + light_count) must lie within the group */
+  uint32_t light_size;          /* the stride, as AtmoLightsState.light_size */
+} AtmoLightsUpdate;
 
 /* What a host's surface shader needs for atmo_fog_lights.glsl (its header
    says how to bind each field). Filled by get_fog_lighting. */
@@ -822,14 +887,25 @@ typedef struct AtmoPluginApi {
      lookup tables on the calling thread (~0.1-0.5 s when the phase function
      changes; the same phase reuses them). On error the fog is unchanged. [ctx-sync][no-gl] */
   AtmoResult (*set_fog)(AtmoContext context, const AtmoFogState* state);
-  /* Replaces the host's lights (copied); NULL or 0 lights: none. On error the
-     lights are unchanged. [ctx-sync][no-gl] */
+  /* Replaces one group's lights (copied; AtmoLightsState.group, 0 for a host
+     that has one set of lights); NULL: no lights in any group. On error the
+     lights are unchanged, and the message names the bad light's index.
+     65 536 lights take < 10 ms. [ctx-sync][no-gl] */
   AtmoResult (*set_lights)(AtmoContext context, const AtmoLightsState* state);
   /* The fog's lighting for the host's surface shaders this frame (uploads the
      lights relative to this view's eye). Needs gl_init, set_frame and
      set_view. Without fog or lights: ATMO_STATUS_NOTHING_TO_DRAW and
      light_count 0. [ctx-sync][gl-current] */
   AtmoResult (*get_fog_lighting)(AtmoView view, AtmoFogLighting* out_lighting);
+
+  /* --- Added with light groups (a host whose table ends above gets NULL here) --- */
+  /* Moves a group (AtmoLightGroupPose). A group set_lights never filled is
+     ATMO_ERROR_OUT_OF_RANGE. [ctx-sync][no-gl] */
+  AtmoResult (*set_light_group_pose)(AtmoContext context, const AtmoLightGroupPose* pose);
+  /* Replaces lights [first, first + count) of a group (AtmoLightsUpdate); on
+     error nothing changes and the message names the bad light's index.
+     1 000 lights take < 1 ms. [ctx-sync][no-gl] */
+  AtmoResult (*update_lights)(AtmoContext context, const AtmoLightsUpdate* update);
 } AtmoPluginApi;
 
 /* The one exported entry point. The host fills `host` and sets

@@ -14,6 +14,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 #include <utility>
 
 #include "atmo/atmo.h"
@@ -52,6 +53,36 @@ inline AtmoCloudsState clouds_state(double latitude_deg, double longitude_deg, d
   state.layers = layers;
   state.layer_count = count;
   state.layer_size = static_cast<uint32_t>(sizeof(AtmoCloudLayer));
+  return state;
+}
+
+// `count` lights evenly along the segment from `start` to `end` (both
+// included; one light: at `start`), each a copy of `light` at its place: a
+// runway's edge, a road's street lights, an approach's bars. Positions in the
+// lights' world frame, metres.
+inline std::vector<AtmoLightPoint> light_string(const double start[3], const double end[3], uint32_t count,
+                                                const AtmoLightPoint& light) {
+  std::vector<AtmoLightPoint> out(count, light);
+  for (uint32_t i = 0; i < count; ++i) {
+    const double t = count > 1 ? double(i) / double(count - 1) : 0.0;
+    for (int k = 0; k < 3; ++k) out[i].position_m[k] = start[k] + t * (end[k] - start[k]);
+  }
+  return out;
+}
+
+// An AtmoLightsState for group `group` over `lights` (this header's stride)
+// in the ENU frame at the given geodetic origin (degrees, metres, WGS84).
+inline AtmoLightsState lights_state(uint32_t group, const std::vector<AtmoLightPoint>& lights, double latitude_deg,
+                                    double longitude_deg, double height_m) {
+  auto state = make<AtmoLightsState>(ATMO_TYPE_LIGHTS_STATE);
+  state.world_frame = ATMO_WORLD_ENU;
+  state.world_origin_geodetic[0] = latitude_deg;
+  state.world_origin_geodetic[1] = longitude_deg;
+  state.world_origin_geodetic[2] = height_m;
+  state.light_size = static_cast<uint32_t>(sizeof(AtmoLightPoint));
+  state.lights = lights.data();
+  state.light_count = static_cast<uint32_t>(lights.size());
+  state.group = group;
   return state;
 }
 
@@ -131,6 +162,15 @@ class Context {
   void set_lights(const AtmoLightsState& s) {
     if (!api_->set_lights) throw std::runtime_error("set_lights: the plugin has no lights (an older plugin)");
     check(api_->set_lights(context_, &s), "set_lights");
+  }
+  void set_light_group_pose(const AtmoLightGroupPose& p) {
+    if (!api_->set_light_group_pose)
+      throw std::runtime_error("set_light_group_pose: the plugin has no light groups (an older plugin)");
+    check(api_->set_light_group_pose(context_, &p), "set_light_group_pose");
+  }
+  void update_lights(const AtmoLightsUpdate& u) {
+    if (!api_->update_lights) throw std::runtime_error("update_lights: the plugin has no light groups (an older plugin)");
+    check(api_->update_lights(context_, &u), "update_lights");
   }
 
   AtmoContext handle() const { return context_; }

@@ -108,10 +108,12 @@ ATMO_FOG_FN float atmo_fog_inside_fraction(float z0, float z1, float top) {
 }
 
 // A cone light's relative intensity towards unit direction `dir` (from the
-// light); 1 for an omnidirectional light (cos_outer < -1.5).
-ATMO_FOG_FN float atmo_fog_cone(vec3 axis, float cos_inner, float cos_outer, vec3 dir) {
+// light); 1 for an omnidirectional light (cos_outer < -1.5). lobes 2: the
+// cone shines both ways along its axis (ATMO_LIGHT_BIDIRECTIONAL).
+ATMO_FOG_FN float atmo_fog_cone(vec3 axis, float cos_inner, float cos_outer, float lobes, vec3 dir) {
   if (cos_outer < -1.5f) return 1.0f;
-  return smoothstep(cos_outer, cos_inner, dot(axis, dir));
+  float c = dot(axis, dir);
+  return smoothstep(cos_outer, cos_inner, lobes > 1.5f ? abs(c) : c);
 }
 
 // Single-scattered light (airlight) per unit intensity arriving at the eye
@@ -147,7 +149,7 @@ const float ATMO_FOG_CONE_STEPS = 8.0f;
 
 // One light's glow along the unit view ray `dir` from the eye, per unit
 // intensity and albedo (as atmo_fog_airlight). to_light: the light minus the
-// eye, m; axis, cos_inner, cos_outer: its cone (cos_outer < -1.5: omni).
+// eye, m; axis, cos_inner, cos_outer, lobes: its cone (atmo_fog_cone; cos_outer < -1.5: omni).
 // Seen from the light, the ray's points t = t0 + h tan(theta) (t0 the closest
 // approach) carry equal weight per d(theta) under the 1/d^2 law, and the
 // stable form's terms at theta are exp(-beta (t0 + h tan v)) Ghat(beta h, v),
@@ -157,7 +159,8 @@ const float ATMO_FOG_CONE_STEPS = 8.0f;
 // its middle (the approximation; docs/FOG.md measures it). The steps
 // telescope: with profile 1 they sum to atmo_fog_airlight.
 ATMO_FOG_FN float atmo_fog_glow(ATMO_FOG_IN(ATMO_FOG_TABLE) table, float size, float beta, vec3 to_light, vec3 dir,
-                                vec3 axis, float cos_inner, float cos_outer, float d_vp, float min_sin) {
+                                vec3 axis, float cos_inner, float cos_outer, float lobes, float d_vp,
+                                float min_sin) {
   float distance = length(to_light);
   float cos_gamma = dot(dir, to_light) / max(distance, 1.0e-3f);
   if (cos_outer < -1.5f) return atmo_fog_airlight(table, size, beta, distance, cos_gamma, d_vp, min_sin);
@@ -183,7 +186,7 @@ ATMO_FOG_FN float atmo_fog_glow(ATMO_FOG_IN(ATMO_FOG_TABLE) table, float size, f
                      : exp(-beta * max(t0 + h * tan(v), 0.0f)) * atmo_fog_ghat(table, size, u, v);
     float middle = theta - 0.5f * step;
     vec3 from_light = dir * sin(middle) - n * cos(middle);
-    sum += atmo_fog_cone(axis, cos_inner, cos_outer, from_light) * max(previous - term, 0.0f);
+    sum += atmo_fog_cone(axis, cos_inner, cos_outer, lobes, from_light) * max(previous - term, 0.0f);
     previous = term;
   }
   return beta / (2.0f * ATMO_FOG_PI * h) * sum;
@@ -314,8 +317,9 @@ vec3 atmo_fog_lights_surface(vec3 position_rel_eye_m, vec3 normal, vec3 kd, vec3
     if (d > t0.w) continue;
     vec4 t1 = texelFetch(atmo_fog_light_texture, ivec2(1, i), 0);  // intensity * colour (cd), cos_inner
     vec4 t2 = texelFetch(atmo_fog_light_texture, ivec2(2, i), 0);  // cone axis, cos_outer
+    vec4 t3 = texelFetch(atmo_fog_light_texture, ivec2(3, i), 0);  // cone lobes, unused
     vec3 l = to_light / max(d, 1.0e-3);
-    float cone = atmo_fog_cone(t2.xyz, t1.w, t2.w, -l);
+    float cone = atmo_fog_cone(t2.xyz, t1.w, t2.w, t3.x, -l);
     if (cone <= 0.0) continue;
     float beta = atmo_fog_medium.x * atmo_fog_inside_fraction(z_point, dot(t0.xyz, atmo_fog_up), atmo_fog_medium.z);
     vec2 terms = atmo_fog_surface_terms(atmo_fog_surface_table, atmo_fog_surface_table_size, beta, atmo_fog_medium.y,

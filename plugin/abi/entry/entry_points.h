@@ -32,5 +32,7 @@ AtmoResult get_cloud_shadows(AtmoView view, AtmoCloudShadows* out);
 AtmoResult set_fog(AtmoContext context, const AtmoFogState* state);
 AtmoResult set_lights(AtmoContext context, const AtmoLightsState* state);
 AtmoResult get_fog_lighting(AtmoView view, AtmoFogLighting* out);
+AtmoResult set_light_group_pose(AtmoContext context, const AtmoLightGroupPose* pose);
+AtmoResult update_lights(AtmoContext context, const AtmoLightsUpdate* update);
 
 }  // namespace atmo::abi::entry

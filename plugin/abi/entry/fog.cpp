@@ -1,5 +1,6 @@
-// fog.cpp — set_fog, set_lights, the glow pass and the host's lit surfaces
-// (get_fog_lighting); the physics is in core/fog (docs/FOG.md).
+// fog.cpp — set_fog, the lights (set_lights, update_lights,
+// set_light_group_pose), the glow pass and the host's lit surfaces
+// (get_fog_lighting); the physics is in core/fog and core/lights (docs/FOG.md).
 #include <cmath>
 #include <string>
 #include <vector>
@@ -55,6 +56,37 @@ AtmoResult fog_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& sce
   return ATMO_SUCCESS;
 }
 
+// The eye's threshold illuminance for the light points: the host's, else
+// Allard's for the sky behind the lights (the view's mean sky luminance;
+// at night a few mcd/m^2: 8e-7 lx).
+static double visual_threshold_lux(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene) {
+  if (ctx->lights.visual_threshold_lux > 0.0) return ctx->lights.visual_threshold_lux;
+  return lights::allard_threshold_lux(lights::luminance(view_sky_lighting(ctx, view, scene).average_radiance));
+}
+
+AtmoResult light_points_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene,
+                             const gl::PassInputs& inputs) {
+  const fog::FogFrame& frame = view_fog_frame(ctx, view);
+  lights::PointCamera camera;
+  const glm::dmat4 clip_from_view = glm::inverse(glm::dmat4(inputs.view_from_clip));
+  camera.clip_from_enu = clip_from_view * glm::dmat4(glm::transpose(glm::dmat3(inputs.enu_from_view)));
+  camera.viewport_width = inputs.viewport[2];
+  camera.viewport_height = inputs.viewport[3];
+  camera.margin_px = gl::LightPointRenderer::kMarginPx;
+  view->light_points = lights::visible_light_points(frame, scene.atmosphere, inputs.eye_altitude_m, camera,
+                                                    visual_threshold_lux(ctx, view, scene), &view->light_point_stats);
+  const lights::LightPointStats& st = view->light_point_stats;
+  ctx->services.log(ATMO_LOG_DEBUG, pass_log_prefix(ctx, view) + "light points: " + std::to_string(st.lights) +
+                                        " lights, " + std::to_string(st.drawn) + " drawn, " +
+                                        std::to_string(st.below_threshold) + " under the eye's threshold, " +
+                                        std::to_string(st.off_screen) + " off screen");
+  if (view->light_points.empty()) return ATMO_STATUS_NOTHING_TO_DRAW;
+  std::string error;
+  if (!ctx->light_point_renderer.draw(inputs, view->light_points, &error))
+    return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_LIGHT_POINTS)", error);
+  return ATMO_SUCCESS;
+}
+
 // set_fog and set_lights: null clears (no fog, no lights); either way, on
 // success, every view's fog frame is made again.
 template <typename State, typename Clear, typename Apply>
@@ -88,8 +120,32 @@ AtmoResult set_fog(AtmoContext context, const AtmoFogState* state) {
 AtmoResult set_lights(AtmoContext context, const AtmoLightsState* state) {
   return set_fog_input(
       context, "set_lights", state, ATMO_TYPE_LIGHTS_STATE, "AtmoLightsState",
-      [](AtmoContext_T* ctx) { ctx->lights = fog::FogLights{}; },
+      [](AtmoContext_T* ctx) {
+        const uint64_t version = ctx->lights.version;
+        ctx->lights = lights::LightSet{};
+        ctx->lights.version = version + 1;
+      },
       [](const AtmoLightsState& s, AtmoContext_T* ctx) { return set_lights_state(s, &ctx->lights); });
+}
+
+AtmoResult update_lights(AtmoContext context, const AtmoLightsUpdate* update) {
+  return context_call(context, "update_lights", update, ATMO_TYPE_LIGHTS_UPDATE, "AtmoLightsUpdate",
+                      [&](AtmoContext_T* ctx, const AtmoLightsUpdate& u) -> AtmoResult {
+                        Verdict v = update_lights_state(u, &ctx->lights);
+                        if (!v.ok()) return fail(ctx, v.code, "update_lights", v.message);
+                        ++ctx->fog_serial;
+                        return ATMO_SUCCESS;
+                      });
+}
+
+AtmoResult set_light_group_pose(AtmoContext context, const AtmoLightGroupPose* pose) {
+  return context_call(context, "set_light_group_pose", pose, ATMO_TYPE_LIGHT_GROUP_POSE, "AtmoLightGroupPose",
+                      [&](AtmoContext_T* ctx, const AtmoLightGroupPose& p) -> AtmoResult {
+                        Verdict v = set_light_group_pose_state(p, &ctx->lights);
+                        if (!v.ok()) return fail(ctx, v.code, "set_light_group_pose", v.message);
+                        ++ctx->fog_serial;
+                        return ATMO_SUCCESS;
+                      });
 }
 
 AtmoResult get_fog_lighting(AtmoView view_handle, AtmoFogLighting* out) {
@@ -98,7 +154,7 @@ AtmoResult get_fog_lighting(AtmoView view_handle, AtmoFogLighting* out) {
       [&](AtmoContext_T* ctx, AtmoView_T* view, AtmoFogLighting& f) -> AtmoResult {
         AtmoResult result = ATMO_STATUS_NOTHING_TO_DRAW;
         std::memset(reinterpret_cast<char*>(&f) + sizeof(f.header), 0, sizeof(f) - sizeof(f.header));
-        if (ctx->fog.enabled() && !ctx->lights.lights.empty()) {
+        if (ctx->fog.enabled() && !ctx->lights.empty()) {
           const double threshold = glow_threshold(ctx, view);
           const fog::FogFrame& frame = view_fog_frame(ctx, view);
           // The view's world axes from the eye's ENU.

@@ -83,6 +83,8 @@ const AtmoPluginApi kApi = {
     &entry::set_fog,
     &entry::set_lights,
     &entry::get_fog_lighting,
+    &entry::set_light_group_pose,
+    &entry::update_lights,
 };
 
 }  // namespace

@@ -52,6 +52,9 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
                        case ATMO_PASS_LIGHT_GLOWS:
                          if (!ctx->fog.enabled()) return ATMO_STATUS_NOTHING_TO_DRAW;  // no fog: no cost
                          break;
+                       case ATMO_PASS_LIGHT_POINTS:
+                         if (ctx->lights.empty()) return ATMO_STATUS_NOTHING_TO_DRAW;  // no lights: no cost
+                         break;
                        case ATMO_PASS_AERIAL_PERSPECTIVE:
                          if (view->state.depth_texture == 0) return ATMO_STATUS_NOTHING_TO_DRAW;
                          break;
@@ -91,6 +94,7 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
                        return fail(ctx, ATMO_ERROR_GL, "render_pass", error);
                      if (pass.pass == ATMO_PASS_NIGHT_SKY) return night_sky_pass(ctx, view, scene, inputs);
                      if (pass.pass == ATMO_PASS_LIGHT_GLOWS) return fog_pass(ctx, view, scene, inputs);
+                     if (pass.pass == ATMO_PASS_LIGHT_POINTS) return light_points_pass(ctx, view, scene, inputs);
                      if (pass.pass == ATMO_PASS_CLOUDS) return clouds_pass(ctx, view, scene, inputs);
                      bool ok = pass.pass == ATMO_PASS_SKY ? ctx->renderer.draw_sky(inputs, &error)
                                                           : ctx->renderer.draw_aerial_perspective(inputs, &error);

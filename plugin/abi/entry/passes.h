@@ -22,5 +22,7 @@ bool add_cloud_shadow(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& s
 
 // fog.cpp
 AtmoResult fog_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene, const gl::PassInputs& inputs);
+AtmoResult light_points_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene,
+                             const gl::PassInputs& inputs);
 
 }  // namespace atmo::abi::entry

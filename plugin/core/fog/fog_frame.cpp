@@ -20,65 +20,63 @@ void FogMedium::apply(const FogOptics& o, int table_size) {
   airlight_table_size = table_size;
 }
 
-// d(omega) = 2 pi d(cos): the mean over cos.
-double mean_cone_profile(double cos_inner, double cos_outer) {
-  const int n = 512;
-  double sum = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const float c = static_cast<float>(-1.0 + 2.0 * (i + 0.5) / n);
-    sum += twin::atmo_fog_cone(glm::vec3(0.0f, 0.0f, 1.0f), static_cast<float>(cos_inner),
-                               static_cast<float>(cos_outer), glm::vec3(std::sqrt(1.0f - c * c), 0.0f, c));
-  }
-  return sum / n;
-}
-
-FogFrame make_fog_frame(const FogMedium& fog, const FogLights& lights, const core::EyeFrame& eye,
+FogFrame make_fog_frame(const FogMedium& fog, const lights::LightSet& lights, const core::EyeFrame& eye,
                         double threshold_cd_m2) {
   FogFrame f;
-  const FogOptics& o = fog.optics;
+  FogOptics o = fog.optics;
+  if (!fog.enabled()) o.extinction_per_m = 0.0, o.multiple_scattering = false;
   const double top = std::isfinite(o.top_height_m) ? o.top_height_m - eye.eye.height_m : INFINITY;
   f.top_above_eye_m = std::isfinite(top) ? static_cast<float>(top) : kNoTop;
   const glm::dmat3 enu_from_ecef = glm::transpose(eye.ecef_from_enu);
+  // Every light against the eye, in its ENU axes (double until here).
+  f.lights.resize(lights.size());
+  std::vector<double> distance(f.lights.size());
+  std::vector<glm::dvec3> power(f.lights.size());
+  double floor_above_eye = 0.0;
+  size_t n = 0;
+  lights.for_each_light([&](const glm::dvec3& ecef, const glm::dvec3& axis, const lights::Light& l) {
+    const glm::dvec3 rel = enu_from_ecef * (ecef - eye.eye_ecef_m);
+    FrameLight& fl = f.lights[n];
+    fl.position_enu_m = glm::vec3(rel);
+    fl.intensity_cd = glm::vec3(l.intensity_cd);
+    fl.axis_enu = glm::vec3(enu_from_ecef * axis);
+    fl.cos_inner = static_cast<float>(l.cos_inner);
+    fl.cos_outer = static_cast<float>(l.cos_outer);
+    fl.lobes = l.lobes;
+    distance[n] = glm::length(rel);
+    power[n] = l.intensity_cd * l.mean_profile;
+    floor_above_eye = std::min(floor_above_eye, rel.z);
+    ++n;
+  });
   // The diffusion term's layer: from the ground, taken as the lowest of the eye and the lights (lights stand
   // on the ground), to the top (docs/FOG.md).
-  double floor_above_eye = 0.0;
-  for (const FogLight& l : lights.lights)
-    floor_above_eye = std::min(floor_above_eye, (enu_from_ecef * (l.position_ecef_m - eye.eye_ecef_m)).z);
   const double depth = std::isfinite(top) ? std::max(top - floor_above_eye, 1.0) : INFINITY;
   const double tr = o.transport_per_m(), mu = o.diffusion_decay_per_m(depth);
   const double cap = !o.multiple_scattering ? 0.0 : std::isfinite(depth) ? o.extinction_per_m * depth : 1e30;
   f.diffusion = glm::vec4(float(tr), float(mu), float(kHandoverRate), float(cap));
-  f.lights.resize(lights.lights.size());
   glm::dvec3 fluence(0.0);
   glm::dmat3 flux(0.0);
-  for (size_t i = 0; i < lights.lights.size(); ++i) {
-    const FogLight& l = lights.lights[i];
-    FrameLight& fl = f.lights[i];
-    const glm::dvec3 rel = enu_from_ecef * (l.position_ecef_m - eye.eye_ecef_m);
-    fl.position_enu_m = glm::vec3(rel);
-    fl.intensity_cd = glm::vec3(l.intensity_cd);
-    fl.axis_enu = glm::vec3(enu_from_ecef * l.axis_ecef);
-    fl.cos_inner = static_cast<float>(l.cos_inner);
-    fl.cos_outer = static_cast<float>(l.cos_outer);
-    // The part of the eye-light segment inside the layer (heights in the tangent plane at the eye).
-    const double beta =
-        o.extinction_per_m * twin::atmo_fog_inside_fraction(0.0f, fl.position_enu_m.z, f.top_above_eye_m);
-    fl.beta_per_m = static_cast<float>(beta);
-    const double d = glm::length(rel);
-    const double peak = std::max({l.intensity_cd.x, l.intensity_cd.y, l.intensity_cd.z});
-    fl.glow_radius_rad = fog.bound ? static_cast<float>(fog.bound->radius_rad(beta, o.albedo, std::max(d, 1e-3), peak,
-                                                                              threshold_cd_m2))
-                                   : 0.0f;
-    if (o.multiple_scattering && d > 0.0) {
-      const glm::vec2 p1 = twin::atmo_fog_diffusion_light(f.diffusion, static_cast<float>(d),
-                                                                static_cast<float>(beta * d), false);
-      const double phi = p1.x, flux_magnitude = p1.y;
-      const glm::dvec3 towards = rel / d;
-      const glm::dvec3 power = l.intensity_cd * l.mean_profile;
-      fluence += phi * power;
-      for (int c = 0; c < 3; ++c) flux[c] += flux_magnitude * power[c] * towards;
+  if (o.extinction_per_m > 0.0)
+    for (size_t i = 0; i < f.lights.size(); ++i) {
+      FrameLight& fl = f.lights[i];
+      // The part of the eye-light segment inside the layer (heights in the tangent plane at the eye).
+      const double beta =
+          o.extinction_per_m * twin::atmo_fog_inside_fraction(0.0f, fl.position_enu_m.z, f.top_above_eye_m);
+      fl.beta_per_m = static_cast<float>(beta);
+      const double d = distance[i];
+      const double peak = std::max({fl.intensity_cd.x, fl.intensity_cd.y, fl.intensity_cd.z});
+      fl.glow_radius_rad = fog.bound ? static_cast<float>(fog.bound->radius_rad(beta, o.albedo, std::max(d, 1e-3),
+                                                                                peak, threshold_cd_m2))
+                                     : 0.0f;
+      if (o.multiple_scattering && d > 0.0) {
+        const glm::vec2 p1 = twin::atmo_fog_diffusion_light(f.diffusion, static_cast<float>(d),
+                                                            static_cast<float>(beta * d), false);
+        const double phi = p1.x, flux_magnitude = p1.y;
+        const glm::dvec3 towards = glm::dvec3(fl.position_enu_m) / d;
+        fluence += phi * power[i];
+        for (int c = 0; c < 3; ++c) flux[c] += flux_magnitude * power[i][c] * towards;
+      }
     }
-  }
   f.fluence = glm::vec3(fluence);
   f.flux_towards_lights = glm::mat3(flux);
   return f;

@@ -14,6 +14,7 @@
 
 #include "core/fog/fog_model.h"
 #include "core/geo/eye_frame.h"
+#include "core/lights/light_set.h"
 #include "core/scene/scene.h"
 #include "core/sky/sky_lighting.h"
 
@@ -34,22 +35,6 @@ struct FogMedium {
   void apply(const FogOptics& o, int table_size);
 };
 
-struct FogLight {
-  glm::dvec3 position_ecef_m{0.0};
-  glm::dvec3 axis_ecef{0.0, 0.0, 1.0};  // unit
-  glm::dvec3 intensity_cd{0.0};         // on the axis, per channel (intensity times colour)
-  double cos_inner = -2.0, cos_outer = -2.0;  // cos_outer < -1.5: omnidirectional
-  double mean_profile = 1.0;            // the cone's mean over the sphere (the diffusion term's power)
-};
-
-struct FogLights {
-  std::vector<FogLight> lights;
-  double glow_threshold_cd_m2 = 0.0;  // 0: from the view's exposure
-};
-
-// Mean over the sphere of a cone light's profile (atmo_fog_cone).
-double mean_cone_profile(double cos_inner, double cos_outer);
-
 // One view's frame: lights relative to the eye in its ENU axes (float), with
 // their effective extinction (the part of the eye-light path in the layer),
 // glow radius, and the sum of their diffusion terms at the eye.
@@ -58,6 +43,7 @@ struct FrameLight {
   glm::vec3 intensity_cd{0.0f};
   glm::vec3 axis_enu{0.0f, 0.0f, 1.0f};
   float cos_inner = -2.0f, cos_outer = -2.0f;
+  float lobes = 1.0f;               // 2: both ways along the axis (atmo_fog_cone)
   float beta_per_m = 0.0f;          // effective extinction on the eye-light path
   float glow_radius_rad = 0.0f;     // 0: no glow above the threshold
 };
@@ -70,7 +56,10 @@ struct FogFrame {
   glm::mat3 flux_towards_lights{0.0f};  // column c: channel c's vector, ENU
   glm::vec4 diffusion{0.0f};            // (sigma_tr, mu, rate, on) for atmo_fog_diffusion_light
 };
-FogFrame make_fog_frame(const FogMedium& fog, const FogLights& lights, const core::EyeFrame& eye,
+// Without fog (fog.enabled() false) the lights are placed all the same,
+// with no extinction, glow or diffusion: the light points and the host's
+// surfaces still need them.
+FogFrame make_fog_frame(const FogMedium& fog, const lights::LightSet& lights, const core::EyeFrame& eye,
                         double threshold_cd_m2);
 
 // Per light, the distance beyond which it lights a white Lambertian surface

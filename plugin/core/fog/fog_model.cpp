@@ -205,6 +205,10 @@ double GlowBound::radius_rad(double beta, double albedo, double distance_m, doub
   if (!(beta > 0.0) || !(intensity_cd > 0.0) || !(distance_m > 0.0)) return 0.0;
   const double scale = albedo * intensity_cd * std::exp(-beta * distance_m) * beta / (2.0 * kPi * distance_m);
   const int n = static_cast<int>(ghat0_.size());
+  // Ghat(0, .) falls with the angle, so no sample off the core can beat the first one's bound: a dim or far
+  // light (most of a city's) is settled here.
+  if (scale * ghat0_[0] / std::sin(kPi / (n - 1)) < threshold_cd_m2)
+    return std::min(scale * ghat0_[0] / threshold_cd_m2, kPi / (n - 1));
   // From the back (pi) towards the light: the first sample above the threshold
   // (with its neighbour's Ghat, as the bound must hold between samples).
   for (int i = n - 2; i >= 1; --i) {
