@@ -12,6 +12,7 @@
 #include "abi/cloud_inputs.h"
 #include "abi/fog_inputs.h"
 #include "abi/light_inputs.h"
+#include "core/lights/light_clusters.h"
 #include "abi/host_services.h"
 #include "abi/table_builder.h"
 #include "atmo/atmo.h"
@@ -70,6 +71,7 @@ struct AtmoContext_T {
   atmo::gl::FogRenderer fog_renderer;
   atmo::gl::LightPointRenderer light_point_renderer;
   uint64_t fog_serial = 0;  // bumps on every change of the fog or the lights (the views' fog frames follow)
+  bool warned_old_fog_lighting = false;  // a host's AtmoFogLighting from before the clusters was told once
 
   atmo::gl::Renderer renderer;
   // The night sky's point pass: its programs are built by the first night
@@ -127,6 +129,9 @@ struct AtmoView_T {
   // get_fog_lighting and the glow pass, and the serials it was made at.
   std::optional<atmo::fog::FogFrame> fog_frame;
   uint64_t fog_frame_context_serial = 0, fog_frame_view_serial = 0;
+  // The clusters of the lights for the host's surfaces (get_fog_lighting), made with the fog frame.
+  std::optional<atmo::lights::LightClusters> light_clusters;
+  uint64_t light_clusters_context_serial = 0, light_clusters_view_serial = 0;
   // The light points of this view's last pass (the buffer is reused) and what was culled.
   std::vector<atmo::lights::LightPoint> light_points;
   atmo::lights::LightPointStats light_point_stats;

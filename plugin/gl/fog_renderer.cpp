@@ -52,6 +52,7 @@ glm::vec4 glow_rectangle(const glm::dmat4& clip_from_enu, const glm::dvec3& towa
 void FogRenderer::forget() {
   medium_program_ = glow_program_ = 0;
   airlight_table_ = surface_table_ = light_texture_ = 0;
+  cluster_grid_ = cluster_lists_ = far_field_ = 0;
   vao_ = instance_buffer_ = 0;
   linear_sampler_ = nearest_sampler_ = 0;
   tables_version_ = 0;
@@ -60,7 +61,7 @@ void FogRenderer::forget() {
 void FogRenderer::destroy() {
   for (GLuint p : {medium_program_, glow_program_})
     if (p) glDeleteProgram(p);
-  for (GLuint t : {airlight_table_, surface_table_, light_texture_})
+  for (GLuint t : {airlight_table_, surface_table_, light_texture_, cluster_grid_, cluster_lists_, far_field_})
     if (t) glDeleteTextures(1, &t);
   if (vao_) glDeleteVertexArrays(1, &vao_);
   if (instance_buffer_) glDeleteBuffers(1, &instance_buffer_);
@@ -180,26 +181,71 @@ bool FogRenderer::draw(const Renderer&, const PassInputs& in, const FogDrawInput
   return check_gl("drawing the fog and glows", error);
 }
 
-bool FogRenderer::upload_host_lights(const fog::FogFrame& frame, const glm::dmat3& world_from_enu,
-                                     const std::vector<float>& range_m, std::string* error) {
-  std::vector<float> texels(frame.lights.size() * 16);
-  for (size_t i = 0; i < frame.lights.size(); ++i) {
-    const fog::FrameLight& l = frame.lights[i];
+bool FogRenderer::upload_host_lights(const fog::FogFrame& frame, const lights::LightClusters& clusters,
+                                     const glm::dmat3& world_from_enu, std::string* error) {
+  // The lights: 256 a row of 4 texels each.
+  constexpr size_t kLightsPerRow = 256;
+  // The frame's lights, then the clusters' merged lights.
+  const size_t n = frame.lights.size() + clusters.merged.size();
+  const GLsizei light_rows = static_cast<GLsizei>(std::max<size_t>(1, (n + kLightsPerRow - 1) / kLightsPerRow));
+  std::vector<float> texels(static_cast<size_t>(light_rows) * kLightsPerRow * 16, 0.0f);
+  for (size_t i = 0; i < n; ++i) {
+    const bool own = i < frame.lights.size();
+    const fog::FrameLight& l = own ? frame.lights[i] : clusters.merged[i - frame.lights.size()];
+    const float range = own ? clusters.range_m[i] : clusters.merged_range_m[i - frame.lights.size()];
     const glm::vec3 p(world_from_enu * glm::dvec3(l.position_enu_m));
     const glm::vec3 axis(world_from_enu * glm::dvec3(l.axis_enu));
-    const float t[16] = {p.x, p.y, p.z, range_m[i], l.intensity_cd.x, l.intensity_cd.y, l.intensity_cd.z, l.cos_inner,
-                         axis.x, axis.y, axis.z, l.cos_outer, l.lobes, 0.0f, 0.0f, 0.0f};
+    const float t[16] = {p.x, p.y, p.z, range, l.intensity_cd.x, l.intensity_cd.y, l.intensity_cd.z,
+                         l.cos_inner, axis.x, axis.y, axis.z, l.cos_outer, l.lobes, 0.0f, 0.0f, 0.0f};
     std::copy(t, t + 16, texels.begin() + static_cast<std::ptrdiff_t>(i * 16));
   }
+  // The clusters: (first, count) per cluster, rows of tiles, slices stacked; the lists 4096 a row.
+  const lights::ClusterGrid& g = clusters.grid;
+  const GLsizei grid_w = g.tiles_x, grid_h = g.tiles_y * lights::ClusterGrid::kSlices;
+  std::vector<uint32_t> grid(static_cast<size_t>(grid_w) * grid_h * 2);
+  for (size_t f = 0; f < clusters.offset.size(); ++f) {
+    grid[2 * f] = clusters.offset[f];
+    grid[2 * f + 1] = clusters.count[f];
+  }
+  constexpr size_t kEntriesPerRow = 4096;
+  const GLsizei list_rows =
+      static_cast<GLsizei>(std::max<size_t>(1, (clusters.lists.size() + kEntriesPerRow - 1) / kEntriesPerRow));
+  std::vector<uint32_t> lists(static_cast<size_t>(list_rows) * kEntriesPerRow, 0u);
+  std::copy(clusters.lists.begin(), clusters.lists.end(), lists.begin());
+  // The far field: the six faces (ENU at the eye), each a stack of the slices.
+  const int slices = lights::ClusterGrid::kSlices, per_slice = g.tiles_x * g.tiles_y;
+  constexpr int kFaces = lights::LightClusters::kFaces;
+  std::vector<float> far(static_cast<size_t>(per_slice) * slices * kFaces * 4, 0.0f);
+  for (int face = 0; face < kFaces; ++face)
+    for (int f = 0; f < per_slice * slices; ++f) {
+      const glm::vec3& e = clusters.far[face][static_cast<size_t>(f)];
+      float* texel = &far[(static_cast<size_t>(face) * per_slice * slices + static_cast<size_t>(f)) * 4];
+      texel[0] = e.x;
+      texel[1] = e.y;
+      texel[2] = e.z;
+    }
   GlStateGuard guard(1);
   glActiveTexture(GL_TEXTURE0);
-  if (!light_texture_) glGenTextures(1, &light_texture_);
-  glBindTexture(GL_TEXTURE_2D, light_texture_);  // unpacking: the guard's baseline
-  const GLsizei rows = std::max<GLsizei>(1, static_cast<GLsizei>(frame.lights.size()));
-  if (texels.empty()) texels.assign(16, 0.0f);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, 4, rows, 0, GL_RGBA, GL_FLOAT, texels.data());
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  const auto texture_2d = [](GLuint* name, GLint format, GLsizei w, GLsizei h, GLenum layout, GLenum type,
+                             const void* data) {
+    if (!*name) glGenTextures(1, name);
+    glBindTexture(GL_TEXTURE_2D, *name);  // unpacking: the guard's baseline
+    glTexImage2D(GL_TEXTURE_2D, 0, format, w, h, 0, layout, type, data);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  };
+  texture_2d(&light_texture_, GL_RGBA32F, static_cast<GLsizei>(4 * kLightsPerRow), light_rows, GL_RGBA, GL_FLOAT,
+             texels.data());
+  texture_2d(&cluster_grid_, GL_RG32UI, grid_w, grid_h, GL_RG_INTEGER, GL_UNSIGNED_INT, grid.data());
+  texture_2d(&cluster_lists_, GL_R32UI, static_cast<GLsizei>(kEntriesPerRow), list_rows, GL_RED_INTEGER,
+             GL_UNSIGNED_INT, lists.data());
+  if (!far_field_) glGenTextures(1, &far_field_);
+  glBindTexture(GL_TEXTURE_3D, far_field_);
+  glTexImage3D(GL_TEXTURE_3D, 0, GL_RGBA32F, g.tiles_x, g.tiles_y, kFaces * slices, 0, GL_RGBA, GL_FLOAT, far.data());
+  glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+    glTexParameteri(GL_TEXTURE_3D, wrap, GL_CLAMP_TO_EDGE);
   return check_gl("uploading the host's lights", error);
 }
 

@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include "core/fog/fog_frame.h"
+#include "core/lights/light_clusters.h"
 #include "gl/renderer.h"
 
 namespace atmo::gl {
@@ -47,12 +48,16 @@ class FogRenderer {
   bool upload_tables(const fog::FogTable& airlight, const fog::FogTable& surface, uint64_t version, std::string* error);
   // The fog pass and the glows into the bound framebuffer (state restored).
   bool draw(const Renderer& renderer, const PassInputs& in, const FogDrawInputs& fog, std::string* error);
-  // The host's light texture: per light 4 RGBA32F texels (see atmo_fog_lights.glsl), positions relative to
-  // the eye in the view's world axes; `world_from_enu` rotates the eye's ENU into them. range_m per light.
-  bool upload_host_lights(const fog::FogFrame& frame, const glm::dmat3& world_from_enu,
-                          const std::vector<float>& range_m, std::string* error);
+  // What the host include reads (atmo_fog_lights.glsl): the light texture (per light 4 RGBA32F texels,
+  // 256 lights a row, positions relative to the eye in the view's world axes; `world_from_enu` rotates the
+  // eye's ENU into them; the clusters' ranges), the clusters' lists and their far fields (ENU faces).
+  bool upload_host_lights(const fog::FogFrame& frame, const lights::LightClusters& clusters,
+                          const glm::dmat3& world_from_enu, std::string* error);
   GLuint surface_table() const { return surface_table_; }
   GLuint light_texture() const { return light_texture_; }
+  GLuint cluster_grid() const { return cluster_grid_; }
+  GLuint cluster_lists() const { return cluster_lists_; }
+  GLuint far_field() const { return far_field_; }
   const FogDrawStats& last_stats() const { return stats_; }
 
  private:
@@ -60,6 +65,7 @@ class FogRenderer {
 
   GLuint medium_program_ = 0, glow_program_ = 0;
   GLuint airlight_table_ = 0, surface_table_ = 0, light_texture_ = 0;
+  GLuint cluster_grid_ = 0, cluster_lists_ = 0, far_field_ = 0;
   GLuint vao_ = 0, instance_buffer_ = 0;
   GLuint linear_sampler_ = 0, nearest_sampler_ = 0;
   uint64_t tables_version_ = 0;

@@ -25,7 +25,9 @@ TEST(StructLayout, Version1SizesAreFrozen) {
   EXPECT_EQ(sizeof(AtmoLightPoint), 104u);
   EXPECT_EQ(sizeof(AtmoLightGroupPose), V1Size<AtmoLightGroupPose>::value);
   EXPECT_EQ(sizeof(AtmoLightsUpdate), V1Size<AtmoLightsUpdate>::value);
-  EXPECT_EQ(sizeof(AtmoFogLighting), V1Size<AtmoFogLighting>::value);
+  // AtmoFogLighting grew at its end (the clusters); a 136-byte host gets light_count 0 (its include predates them).
+  EXPECT_EQ(V1Size<AtmoFogLighting>::value, 136u);
+  EXPECT_EQ(sizeof(AtmoFogLighting), 400u);
   EXPECT_EQ(sizeof(AtmoCloudShadows), V1Size<AtmoCloudShadows>::value);
   EXPECT_EQ(sizeof(AtmoCloudLayer), V1Size<AtmoCloudLayer>::value);
   // AtmoCloudsState grew at its end (impostor settings); 80-byte hosts get the defaults.

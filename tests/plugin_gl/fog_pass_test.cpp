@@ -1,24 +1,19 @@
 // Fog and point lights through the ABI: set_fog / set_lights validation (each
 // bad field named, nothing changed), no fog or no light -> no cost, the glow
-// pass and the host include against their C++ twin (the same GLSL text
-// compiled on the CPU, core/fog/fog_twin.h), and finite, non-negative output
+// pass against its C++ twin (the same GLSL text compiled on the CPU,
+// core/fog/fog_twin.h; the host include: fog_host_include_test.cpp), and finite, non-negative output
 // where the model is fragile (a light at the eye, very thin and very dense
 // fog, the eye above the fog top, lights far away).
 #include <glad/gl.h>
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
-
-#include <glm/gtc/type_ptr.hpp>
 
 #include "atmo_support/image.h"
 #include "atmo_support/image_metrics.h"
 #include "core/fog/fog_twin.h"
-#include "host_shader.h"
 #include "plugin_gl_fixture.h"
 
 namespace {
@@ -96,15 +91,19 @@ TEST(FogPass, NoFogOrNoLightsCostNothing) {
   Fixture f;
   set_night_view(f, kEyeHeightM, 0.0, 0.0);
   atmo::support::Image img;
-  // No fog: nothing to draw, with or without lights; no host lighting either.
+  // No fog: no glow pass, with or without lights. No lights: no host lighting.
   EXPECT_EQ(draw_glows(f, &img), ATMO_STATUS_NOTHING_TO_DRAW);
+  AtmoFogLighting fl = atmo::make<AtmoFogLighting>(ATMO_TYPE_FOG_LIGHTING);
+  EXPECT_EQ(f.plugin->api().get_fog_lighting(f.view->handle(), &fl), ATMO_STATUS_NOTHING_TO_DRAW);
+  EXPECT_EQ(fl.light_count, 0u);
   const std::vector<AtmoLightPoint> one = {omni(0.0, 100.0, 5.0, 1e4)};
   f.context->set_lights(lights_of(one));
   EXPECT_EQ(draw_glows(f, &img), ATMO_STATUS_NOTHING_TO_DRAW);
   EXPECT_EQ(atmo::support::count_nonfinite(img), 0u);
-  AtmoFogLighting fl = atmo::make<AtmoFogLighting>(ATMO_TYPE_FOG_LIGHTING);
-  EXPECT_EQ(f.plugin->api().get_fog_lighting(f.view->handle(), &fl), ATMO_STATUS_NOTHING_TO_DRAW);
-  EXPECT_EQ(fl.light_count, 0u);
+  // Lights in clear air light the host's surfaces (their direct light: no extinction).
+  EXPECT_EQ(f.plugin->api().get_fog_lighting(f.view->handle(), &fl), ATMO_SUCCESS);
+  EXPECT_EQ(fl.light_count, 1u);
+  EXPECT_EQ(fl.medium[0], 0.0);
   // Fog without lights: the fog is drawn, but the host has no lights to shade with.
   f.context->set_lights(lights_of({}));
   f.context->set_fog(fog_of(200.0));
@@ -366,136 +365,6 @@ TEST(FogPass, GlowMatchesItsTwin) { check_glow_against_twin(0.0); }
 // Host geometry between the eye and the lights (their glow's near part only) against the twin with the
 // ray's length from the depth: the glow pass reads the host depth.
 TEST(FogPass, GlowIsCutByHostGeometry) { check_glow_against_twin(60.0); }
-
-// A host surface shader that includes atmo_fog_lights.glsl: each pixel is a
-// point of the ground plane 2 m below the eye, on a grid 2 m apart.
-const char* kVertex =
-    "#version 330 core\nvoid main(){vec2 p=vec2((gl_VertexID<<1)&2,gl_VertexID&2);"
-    "gl_Position=vec4(p*2.0-1.0,0.5,1.0);}\n";
-const char* kFragmentMain = R"(
-uniform vec3 kd;
-uniform vec3 ks;
-uniform float exponent;
-out vec4 colour;
-void main() {
-  vec3 p = vec3((gl_FragCoord.x - 48.0) * 2.0, gl_FragCoord.y * 2.0 + 40.0, -2.0);
-  colour = vec4(atmo_fog_lights_surface(p, vec3(0.0, 0.0, 1.0), kd, ks, exponent), 1.0);
-}
-)";
-
-// atmo_fog_lights_surface's loop on the CPU with the twin's terms, over the
-// light texture the plugin filled (read back, so its layout is checked too).
-glm::vec3 surface_on_cpu(const AtmoFogLighting& fl, const atmo::fog::FogTable& table, const std::vector<float>& texels,
-                         glm::vec3 p, glm::vec3 kd, glm::vec3 ks, float exponent) {
-  const glm::vec3 normal(0.0f, 0.0f, 1.0f), up(fl.up_world[0], fl.up_world[1], fl.up_world[2]);
-  const glm::vec3 to_eye = glm::normalize(-p);
-  const glm::vec3 mirror = glm::reflect(-to_eye, normal);
-  const glm::vec4 diffusion(fl.diffusion[0], fl.diffusion[1], fl.diffusion[2], fl.diffusion[3]);
-  const glm::vec2 size(fl.surface_table_size[0], fl.surface_table_size[1]);
-  glm::vec3 sum(0.0f);
-  for (uint32_t i = 0; i < fl.light_count; ++i) {
-    auto texel = [&](int c) { return glm::make_vec4(&texels[(size_t(i) * 4 + c) * 4]); };
-    const glm::vec4 t0 = texel(0), t1 = texel(1), t2 = texel(2), t3 = texel(3);
-    const glm::vec3 to_light = glm::vec3(t0) - p;
-    const float d = glm::length(to_light);
-    if (d > t0.w) continue;
-    const glm::vec3 l = to_light / std::max(d, 1e-3f);
-    const float cone = twin::atmo_fog_cone(glm::vec3(t2), t1.w, t2.w, t3.x, -l);
-    if (cone <= 0.0f) continue;
-    const float beta = float(fl.medium[0]) * twin::atmo_fog_inside_fraction(glm::dot(p, up), glm::dot(glm::vec3(t0), up),
-                                                                           float(fl.medium[2]));
-    const glm::vec2 terms = twin::atmo_fog_surface_terms(table, size, beta, float(fl.medium[1]), diffusion, d, beta * d,
-                                                         glm::dot(normal, l), glm::dot(mirror, l), exponent);
-    sum += glm::vec3(t1) * cone * (kd * terms.x + ks * terms.y);
-  }
-  return sum;
-}
-
-TEST(FogHostInclude, SurfaceShaderMatchesItsTwin) {
-  Fixture f;
-  set_night_view(f, kEyeHeightM, 0.0, 0.0);
-  f.context->set_fog(fog_of(250.0, ATMO_FOG_SCATTERING_AUTO));
-  std::vector<AtmoLightPoint> lights = {omni(-20.0, 80.0, 0.5, 5e3), omni(25.0, 130.0, 6.0, 2e4),
-                                        omni(0.0, 60.0, 0.3, 3e4)};
-  lights[2].direction[1] = -1.0;
-  lights[2].cone_inner_rad = glm::radians(10.0);
-  lights[2].cone_outer_rad = glm::radians(40.0);
-  f.context->set_lights(lights_of(lights));
-  AtmoFogLighting fl = atmo::make<AtmoFogLighting>(ATMO_TYPE_FOG_LIGHTING);
-  ASSERT_EQ(f.plugin->api().get_fog_lighting(f.view->handle(), &fl), ATMO_SUCCESS);
-  ASSERT_EQ(fl.light_count, 3u);
-  EXPECT_GT(fl.diffusion[3], 0.0) << "AUTO scattering turns the diffusion term on";
-
-  const std::string include = read_text(std::string(ATMO_SOURCE_DIR) + "/host_sdk/include/atmo/atmo_fog_lights.glsl");
-  ASSERT_FALSE(include.empty());
-  GLuint program = glCreateProgram();
-  GLuint vs = compile(GL_VERTEX_SHADER, kVertex);
-  GLuint fs = compile(GL_FRAGMENT_SHADER, "#version 330 core\n" + include + kFragmentMain);
-  glAttachShader(program, vs);
-  glAttachShader(program, fs);
-  glLinkProgram(program);
-  GLint linked = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &linked);
-  ASSERT_TRUE(linked);
-  glUseProgram(program);
-  const glm::vec3 kd(0.3f / M_PI), ks(0.2f);
-  const float exponent = 24.0f;
-  glUniform3fv(glGetUniformLocation(program, "kd"), 1, &kd[0]);
-  glUniform3fv(glGetUniformLocation(program, "ks"), 1, &ks[0]);
-  glUniform1f(glGetUniformLocation(program, "exponent"), exponent);
-  glUniform4f(glGetUniformLocation(program, "atmo_fog_medium"), fl.medium[0], fl.medium[1], fl.medium[2], fl.medium[3]);
-  glUniform4f(glGetUniformLocation(program, "atmo_fog_diffusion"), fl.diffusion[0], fl.diffusion[1], fl.diffusion[2],
-              fl.diffusion[3]);
-  glUniform3f(glGetUniformLocation(program, "atmo_fog_up"), fl.up_world[0], fl.up_world[1], fl.up_world[2]);
-  glUniform2f(glGetUniformLocation(program, "atmo_fog_surface_table_size"), fl.surface_table_size[0],
-              fl.surface_table_size[1]);
-  glUniform1i(glGetUniformLocation(program, "atmo_fog_light_count"), int(fl.light_count));
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, fl.surface_table);
-  glUniform1i(glGetUniformLocation(program, "atmo_fog_surface_table"), 0);
-  glActiveTexture(GL_TEXTURE1);
-  glBindTexture(GL_TEXTURE_2D, fl.light_texture);
-  glUniform1i(glGetUniformLocation(program, "atmo_fog_light_texture"), 1);
-  std::vector<float> texels(size_t(fl.light_count) * 4 * 4);
-  glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, texels.data());
-  glActiveTexture(GL_TEXTURE0);
-
-  f.target->bind();
-  glViewport(0, 0, kWidth, kHeight);
-  glDisable(GL_BLEND);
-  glDisable(GL_DEPTH_TEST);
-  GLuint vao = 0;
-  glGenVertexArrays(1, &vao);
-  glBindVertexArray(vao);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glFinish();
-  const atmo::support::Image img = f.target->read_color();
-  glBindVertexArray(0);
-  glDeleteVertexArrays(1, &vao);
-  glUseProgram(0);
-  glDeleteProgram(program);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
-
-  const atmo::fog::FogTable table = atmo::fog::build_surface_table(32, 32, 0.85);
-  ASSERT_EQ(table.width, int(fl.surface_table_size[0]));
-  double worst = 0.0, peak = 0.0;
-  int lit = 0;
-  for (int y = 0; y < kHeight; ++y)
-    for (int x = 0; x < kWidth; ++x) {
-      const int row = kHeight - 1 - y;  // gl_FragCoord.y of this image row
-      const glm::vec3 p((x + 0.5f - 48.0f) * 2.0f, (row + 0.5f) * 2.0f + 40.0f, -2.0f);
-      const glm::vec3 want = surface_on_cpu(fl, table, texels, p, kd, ks, exponent);
-      const float* got = img.pixel(x, y);
-      peak = std::max(peak, double(want.g));
-      if (want.g > 1e-3f) ++lit;
-      for (int c = 0; c < 3; ++c) worst = std::max(worst, double(std::abs(got[c] - want[c]) / std::max(want[c], 1e-3f)));
-    }
-  std::printf("host include vs twin: %d of %d pixels above 1e-3 cd/m^2, peak %.3g cd/m^2, worst relative difference "
-              "%.2e\n", lit, kWidth * kHeight, peak, worst);
-  EXPECT_GT(lit, kWidth * kHeight / 4);
-  EXPECT_LT(worst, 0.01);
-}
 
 // Where the model is fragile the pass stays finite and non-negative.
 TEST(FogPass, FiniteWhereTheModelIsFragile) {

@@ -729,15 +729,28 @@ typedef struct AtmoLightsUpdate {
    says how to bind each field). Filled by get_fog_lighting. */
 typedef struct AtmoFogLighting {
   AtmoStructHeader header;      /* ATMO_TYPE_FOG_LIGHTING; the host sets header, the plugin fills the rest */
-  uint32_t light_count;         /* lights in light_texture; 0 without fog or lights (then skip the include) */
-  uint32_t light_texture;       /* GL_TEXTURE_2D RGBA32F, 4 x light_count texels, positions relative to this
-                                   view's eye in its world axes (valid until the next get_fog_lighting) */
+  /* Lights in light_texture; 0 without lights (then skip the include), and for a host with the 136-byte
+     layout (its include predates the clusters: update host_sdk/include/atmo/atmo_fog_lights.glsl) */
+  uint32_t light_count;
+  uint32_t light_texture;       /* GL_TEXTURE_2D RGBA32F, 4 texels a light, 256 lights a row, positions
+                                   relative to this view's eye in its world axes (valid until the next
+                                   get_fog_lighting) */
   uint32_t surface_table;       /* GL_TEXTURE_2D R32F, GL_LINEAR */
   uint32_t reserved;
   double surface_table_size[2]; /* for atmo_fog_surface_table_size */
   double medium[4];             /* for atmo_fog_medium: extinction 1/m, albedo, fog top above the eye m, 0 */
   double diffusion[4];          /* for atmo_fog_diffusion */
   double up_world[3];           /* for atmo_fog_up */
+  /* --- Grew after the 136-byte layout: the clusters (docs/FOG.md "Surfaces at scale") --- */
+  uint32_t cluster_grid;        /* GL_TEXTURE_2D RG32UI: per cluster its list's first entry and length */
+  uint32_t cluster_lists;       /* GL_TEXTURE_2D R32UI: the lists' light indices, 4096 a row */
+  uint32_t far_field;           /* GL_TEXTURE_3D RGBA32F, linear: per cluster the far field's irradiance on the
+                                   faces +E, -E, +N, -N, +U, -U (lux), six stacks of the slices */
+  uint32_t reserved2;
+  double cluster_from_position[16]; /* for atmo_fog_cluster_from_position (column-major) */
+  double cluster_grid_size[4];  /* for atmo_fog_cluster_grid_size */
+  double cluster_range[2];      /* for atmo_fog_cluster_range */
+  double enu_from_world[9];     /* for atmo_fog_enu_from_world (column-major 3x3: the eye's ENU axes) */
 } AtmoFogLighting;
 
 /* ------------------------------------------------------------------------ */
@@ -892,10 +905,10 @@ typedef struct AtmoPluginApi {
      lights are unchanged, and the message names the bad light's index.
      65 536 lights take < 10 ms. [ctx-sync][no-gl] */
   AtmoResult (*set_lights)(AtmoContext context, const AtmoLightsState* state);
-  /* The fog's lighting for the host's surface shaders this frame (uploads the
-     lights relative to this view's eye). Needs gl_init, set_frame and
-     set_view. Without fog or lights: ATMO_STATUS_NOTHING_TO_DRAW and
-     light_count 0. [ctx-sync][gl-current] */
+  /* The lights' lighting for the host's surface shaders this frame, in fog
+     or clear air (uploads the lights relative to this view's eye and their
+     clusters). Needs gl_init, set_frame and set_view. Without lights:
+     ATMO_STATUS_NOTHING_TO_DRAW and light_count 0. [ctx-sync][gl-current] */
   AtmoResult (*get_fog_lighting)(AtmoView view, AtmoFogLighting* out_lighting);
 
   /* --- Added with light groups (a host whose table ends above gets NULL here) --- */

@@ -18,14 +18,23 @@
 //
 // HOST USE (GLSL 3.30+ fragment shader):
 //   Each frame, after set_view: api.get_fog_lighting(view, &fog) (AtmoFogLighting).
-//   If fog.light_count == 0 nothing here adds light: skip it.
-//   Bind fog.surface_table to a sampler2D named atmo_fog_surface_table and
-//   fog.light_texture to atmo_fog_light_texture, and set the uniforms
+//   If fog.light_count == 0 nothing here adds light: skip it. It works in
+//   clear air as in fog (then only the lights' direct light).
+//   Bind (each to its own texture unit, as the sampler type says)
+//     fog.surface_table    -> sampler2D  atmo_fog_surface_table
+//     fog.light_texture    -> sampler2D  atmo_fog_light_texture
+//     fog.cluster_grid     -> usampler2D atmo_fog_cluster_grid
+//     fog.cluster_lists    -> usampler2D atmo_fog_cluster_lists
+//     fog.far_field        -> sampler3D  atmo_fog_far_field
+//   and set the uniforms
+//     atmo_fog_cluster_from_position = mat4(fog.cluster_from_position)
+//     atmo_fog_cluster_grid_size     = vec4(fog.cluster_grid_size)
+//     atmo_fog_cluster_range         = vec2(fog.cluster_range)
+//     atmo_fog_enu_from_world        = mat3(fog.enu_from_world)
 //     atmo_fog_medium      = vec4(fog.medium)          (extinction, albedo, top above the eye, unused)
 //     atmo_fog_diffusion   = vec4(fog.diffusion)       (see AtmoFogLighting)
 //     atmo_fog_up          = vec3(fog.up_world)        (unit up at the eye, world axes)
 //     atmo_fog_surface_table_size = vec2(fog.surface_table_size)
-//     atmo_fog_light_count = int(fog.light_count)
 //   then, per fragment:
 //     vec3 L = atmo_fog_lights_surface(position_rel_eye_m, normal, kd, ks, exponent);
 //   position_rel_eye_m: the fragment's position minus the eye's, metres, in the
@@ -36,6 +45,9 @@
 //   fog between surface and eye: ATMO_PASS_LIGHT_GLOWS applies that (and adds
 //   the glows), as ATMO_PASS_AERIAL_PERSPECTIVE does for the air. Multiply by
 //   your exposure if you render in scaled units.
+//   The cost per fragment is bounded: at most 12 lights (those of its cluster
+//   that add the most), the rest of the lights through the cluster's far
+//   field (docs/FOG.md "Surfaces at scale").
 //
 // Everything above the "#ifndef ATMO_TWIN" line is written in the subset the
 // plugin's C++ twin compiles (float literals with f, no swizzles), so the CPU
@@ -271,61 +283,112 @@ ATMO_FOG_FN vec3 atmo_fog_medium_light(float transmittance, vec3 ambient, vec3 f
 }
 
 // Radiance per unit intensity that a surface at distance d_sp from a light
-// sends out, for BRDF kd + ks cos^n: x = the kd part, y = the ks part.
-// thickness = the fog's optical thickness light -> surface, cos_s = cos of
-// the angle normal-light, cos_r = cos of the angle mirror direction-light.
-ATMO_FOG_FN vec2 atmo_fog_surface_terms(ATMO_FOG_IN(ATMO_FOG_TABLE) table, vec2 size, float beta_path, float albedo,
-                                        vec4 diffusion, float d_sp, float thickness, float cos_s, float cos_r,
-                                        float exponent) {
+// sends out through the light's direct and single-scattered light, for BRDF
+// kd + ks cos^n: x = the kd part, y = the ks part. thickness = the fog's
+// optical thickness light -> surface, cos_s = cos of the angle normal-light,
+// cos_r = cos of the angle mirror direction-light.
+ATMO_FOG_FN vec2 atmo_fog_surface_terms_single(ATMO_FOG_IN(ATMO_FOG_TABLE) table, vec2 size, float beta_path,
+                                               float albedo, float d_sp, float thickness, float cos_s, float cos_r,
+                                               float exponent) {
   float d = max(d_sp, 1.0e-3f);
   float direct = exp(-thickness) / (d * d);
   float scattered = albedo * beta_path / (2.0f * ATMO_FOG_PI * d) * exp(-thickness);
   float theta_s = acos(clamp(cos_s, -1.0f, 1.0f));
   float theta_r = acos(clamp(cos_r, -1.0f, 1.0f));
-  vec2 p1 = atmo_fog_diffusion_light(diffusion, d, thickness, true);
-  float diffuse = direct * max(cos_s, 0.0f) + scattered * atmo_fog_surface_g(table, size, thickness, theta_s, 1.0f) +
-                  max(0.25f * p1.x + 0.5f * p1.y * cos_s, 0.0f);
+  float diffuse = direct * max(cos_s, 0.0f) + scattered * atmo_fog_surface_g(table, size, thickness, theta_s, 1.0f);
   float specular = direct * pow(max(cos_r, 0.0f), exponent) +
-                   scattered * atmo_fog_surface_g(table, size, thickness, theta_r, exponent) +
-                   max(p1.x + 3.0f * p1.y * cos_r, 0.0f) / (2.0f * (exponent + 1.0f));
+                   scattered * atmo_fog_surface_g(table, size, thickness, theta_r, exponent);
   return vec2(diffuse, specular);
+}
+
+// The same with the light's diffusion (multiple-scattering) term added: the whole light of one light.
+ATMO_FOG_FN vec2 atmo_fog_surface_terms(ATMO_FOG_IN(ATMO_FOG_TABLE) table, vec2 size, float beta_path, float albedo,
+                                        vec4 diffusion, float d_sp, float thickness, float cos_s, float cos_r,
+                                        float exponent) {
+  vec2 single = atmo_fog_surface_terms_single(table, size, beta_path, albedo, d_sp, thickness, cos_s, cos_r,
+                                              exponent);
+  vec2 p1 = atmo_fog_diffusion_light(diffusion, max(d_sp, 1.0e-3f), thickness, true);
+  return single + vec2(max(0.25f * p1.x + 0.5f * p1.y * cos_s, 0.0f),
+                       max(p1.x + 3.0f * p1.y * cos_r, 0.0f) / (2.0f * (exponent + 1.0f)));
+}
+
+// The cluster (screen tile x slice of distance) a point falls in, from its
+// clip position (clip_from_rel times the point) and its distance: (tile x,
+// tile y, slice), and the fractional slice in w. grid = (tiles x, tiles y,
+// slices, 0); range = (near m, log(far / near)).
+ATMO_FOG_FN vec4 atmo_fog_cluster_of(vec4 clip, float distance, vec4 grid, vec2 range) {
+  vec2 ndc = clip.w > 1.0e-6f ? clamp(vec2(clip.x, clip.y) / clip.w, -1.0f, 1.0f) : vec2(0.0f, 0.0f);
+  float k = clamp(log(max(distance, range.x) / range.x) / range.y * grid.z, 0.0f, grid.z - 1.0e-3f);
+  float tx = min(floor((ndc.x * 0.5f + 0.5f) * grid.x), grid.x - 1.0f);
+  float ty = min(floor((ndc.y * 0.5f + 0.5f) * grid.y), grid.y - 1.0f);
+  return vec4(tx, ty, floor(k), k);
 }
 
 #ifndef ATMO_TWIN
 #ifndef ATMO_FOG_NO_UNIFORMS
 uniform sampler2D atmo_fog_surface_table;
-uniform sampler2D atmo_fog_light_texture;  // RGBA32F, 4 texels per light (one row each)
+uniform sampler2D atmo_fog_light_texture;  // RGBA32F, 4 texels per light, 256 lights a row
+uniform usampler2D atmo_fog_cluster_grid;  // RG32UI, per cluster: (first entry, entries)
+uniform usampler2D atmo_fog_cluster_lists; // R32UI, light indices, 4096 a row
+uniform sampler3D atmo_fog_far_field;      // RGBA32F, 6 stacks of slices: faces +E, -E, +N, -N, +U, -U (lux)
+uniform mat3 atmo_fog_enu_from_world;      // the eye's ENU axes from the view's world axes
+uniform mat4 atmo_fog_cluster_from_position;  // clip from the position relative to the eye (world axes)
+uniform vec4 atmo_fog_cluster_grid_size;   // tiles across, tiles up, slices, 0
+uniform vec2 atmo_fog_cluster_range;       // near m, log(far / near)
 uniform vec4 atmo_fog_medium;              // extinction 1/m, albedo, top height above the eye m, unused
 uniform vec4 atmo_fog_diffusion;           // sigma_tr 1/m, mu 1/m, handover rate, thickness cap (0: off)
 uniform vec3 atmo_fog_up;                  // unit up at the eye, world axes
 uniform vec2 atmo_fog_surface_table_size;
-uniform int atmo_fog_light_count;
 
-// Sum over the plugin's lights (set_lights) of the light a surface sends
-// towards the eye, cd/m^2, before the fog between surface and eye.
-// Lights beyond their range (the distance where they add under the glow
-// threshold) are skipped.
+vec4 atmo_fog_light_texel(int light, int k) {
+  return texelFetch(atmo_fog_light_texture, ivec2(4 * (light % 256) + k, light / 256), 0);
+}
+
+// The light the plugin's lights (set_lights) send towards the eye from a
+// surface point, cd/m^2, before the fog between surface and eye: the lights
+// of the point's cluster one by one (at most 12), and the cluster's far field
+// (the other lights that reach it, and every light's diffusion in fog)
+// filtered between cluster centres, on the kd part.
 vec3 atmo_fog_lights_surface(vec3 position_rel_eye_m, vec3 normal, vec3 kd, vec3 ks, float exponent) {
   vec3 sum = vec3(0.0);
   vec3 to_eye = normalize(-position_rel_eye_m);
   vec3 mirror = reflect(-to_eye, normal);
   float z_point = dot(position_rel_eye_m, atmo_fog_up);
-  for (int i = 0; i < atmo_fog_light_count; ++i) {
-    vec4 t0 = texelFetch(atmo_fog_light_texture, ivec2(0, i), 0);  // position rel eye, range m
+  vec4 clip = atmo_fog_cluster_from_position * vec4(position_rel_eye_m, 1.0);
+  vec4 cell = atmo_fog_cluster_of(clip, length(position_rel_eye_m), atmo_fog_cluster_grid_size,
+                                  atmo_fog_cluster_range);
+  uvec2 list = texelFetch(atmo_fog_cluster_grid,
+                          ivec2(cell.x, cell.z * atmo_fog_cluster_grid_size.y + cell.y), 0).xy;
+  for (uint j = 0u; j < list.y; ++j) {
+    uint entry = list.x + j;
+    int i = int(texelFetch(atmo_fog_cluster_lists, ivec2(int(entry % 4096u), int(entry / 4096u)), 0).r);
+    vec4 t0 = atmo_fog_light_texel(i, 0);  // position rel eye, range m
     vec3 to_light = t0.xyz - position_rel_eye_m;
     float d = length(to_light);
     if (d > t0.w) continue;
-    vec4 t1 = texelFetch(atmo_fog_light_texture, ivec2(1, i), 0);  // intensity * colour (cd), cos_inner
-    vec4 t2 = texelFetch(atmo_fog_light_texture, ivec2(2, i), 0);  // cone axis, cos_outer
-    vec4 t3 = texelFetch(atmo_fog_light_texture, ivec2(3, i), 0);  // cone lobes, unused
+    vec4 t1 = atmo_fog_light_texel(i, 1);  // intensity * colour (cd), cos_inner
+    vec4 t2 = atmo_fog_light_texel(i, 2);  // cone axis, cos_outer
+    vec4 t3 = atmo_fog_light_texel(i, 3);  // cone lobes, unused
     vec3 l = to_light / max(d, 1.0e-3);
     float cone = atmo_fog_cone(t2.xyz, t1.w, t2.w, t3.x, -l);
     if (cone <= 0.0) continue;
     float beta = atmo_fog_medium.x * atmo_fog_inside_fraction(z_point, dot(t0.xyz, atmo_fog_up), atmo_fog_medium.z);
-    vec2 terms = atmo_fog_surface_terms(atmo_fog_surface_table, atmo_fog_surface_table_size, beta, atmo_fog_medium.y,
-                                        atmo_fog_diffusion, d, beta * d, dot(normal, l), dot(mirror, l), exponent);
+    vec2 terms = atmo_fog_surface_terms_single(atmo_fog_surface_table, atmo_fog_surface_table_size, beta,
+                                               atmo_fog_medium.y, d, beta * d, dot(normal, l), dot(mirror, l),
+                                               exponent);
     sum += t1.rgb * cone * (kd * terms.x + ks * terms.y);
   }
+  // The far field, an ambient cube in the eye's ENU axes: E(n) = sum n_i^2 E(face of n_i's sign), between
+  // the cluster centres of its tile's column of slices.
+  vec3 n = atmo_fog_enu_from_world * normal;
+  vec2 uv = (vec2(cell.x, cell.y) + 0.5) / atmo_fog_cluster_grid_size.xy;
+  float slices = atmo_fog_cluster_grid_size.z;
+  float k = clamp(cell.w, 0.5, slices - 0.5);
+  vec3 face = vec3(n.x < 0.0 ? 1.0 : 0.0, n.y < 0.0 ? 3.0 : 2.0, n.z < 0.0 ? 5.0 : 4.0);
+  vec3 e = n.x * n.x * texture(atmo_fog_far_field, vec3(uv, (k + face.x * slices) / (6.0 * slices))).rgb +
+           n.y * n.y * texture(atmo_fog_far_field, vec3(uv, (k + face.y * slices) / (6.0 * slices))).rgb +
+           n.z * n.z * texture(atmo_fog_far_field, vec3(uv, (k + face.z * slices) / (6.0 * slices))).rgb;
+  sum += kd * e;
   return sum;
 }
 #endif  // ATMO_FOG_NO_UNIFORMS

@@ -2,6 +2,8 @@
 // set_light_group_pose), the glow pass and the host's lit surfaces
 // (get_fog_lighting); the physics is in core/fog and core/lights (docs/FOG.md).
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -31,6 +33,38 @@ const fog::FogFrame& view_fog_frame(AtmoContext_T* ctx, AtmoView_T* view) {
     view->fog_frame_view_serial = view->state_serial;
   }
   return *view->fog_frame;
+}
+
+// The clip position of an ENU direction at the eye: the host's projection times its view rotation.
+glm::dmat4 clip_from_enu(const AtmoView_T* view) {
+  return glm::inverse(view->eye.view_from_clip) * glm::dmat4(glm::transpose(view->eye.enu_from_view));
+}
+
+// The view's clusters for the host's surfaces, made once per set_view / fog or light change.
+const lights::LightClusters& view_light_clusters(AtmoContext_T* ctx, AtmoView_T* view) {
+  const fog::FogFrame& frame = view_fog_frame(ctx, view);
+  if (!view->light_clusters || view->light_clusters_context_serial != ctx->fog_serial ||
+      view->light_clusters_view_serial != view->state_serial) {
+    const lights::ClusterGrid grid =
+        lights::ClusterGrid::for_view(clip_from_enu(view), view->state.viewport[2], view->state.viewport[3]);
+    view->light_clusters = lights::cluster_lights(frame, grid, static_cast<float>(ctx->fog.optics.albedo),
+                                                  glow_threshold(ctx, view));
+    view->light_clusters_context_serial = ctx->fog_serial;
+    view->light_clusters_view_serial = view->state_serial;
+  }
+  return *view->light_clusters;
+}
+
+// Tables for the include when there is no fog (it still samples them; the terms they scale are 0).
+const fog::FogTable& no_fog_table() {
+  static const fog::FogTable t = [] {
+    fog::FogTable table;
+    table.width = 2;
+    table.height = 2 * fog::kSurfaceLayers;
+    table.texels.assign(static_cast<size_t>(table.width) * table.height, 0.0f);
+    return table;
+  }();
+  return t;
 }
 
 }  // namespace
@@ -152,34 +186,63 @@ AtmoResult get_fog_lighting(AtmoView view_handle, AtmoFogLighting* out) {
   return view_output_call(
       view_handle, "get_fog_lighting", out, ATMO_TYPE_FOG_LIGHTING, "AtmoFogLighting", true,
       [&](AtmoContext_T* ctx, AtmoView_T* view, AtmoFogLighting& f) -> AtmoResult {
-        AtmoResult result = ATMO_STATUS_NOTHING_TO_DRAW;
         std::memset(reinterpret_cast<char*>(&f) + sizeof(f.header), 0, sizeof(f) - sizeof(f.header));
-        if (ctx->fog.enabled() && !ctx->lights.empty()) {
-          const double threshold = glow_threshold(ctx, view);
-          const fog::FogFrame& frame = view_fog_frame(ctx, view);
-          // The view's world axes from the eye's ENU.
-          const glm::dmat3 world_from_ecef = glm::transpose(
-              glm::dmat3(ecef_from_world_frame(view->state.world_frame, view->state.world_origin_geodetic)));
-          const glm::dmat3 world_from_enu = world_from_ecef * view->eye.ecef_from_enu;
-          const std::vector<float> range = fog::surface_light_ranges(ctx->fog, frame, threshold);
-          std::string error;
-          if (!ctx->fog_renderer.upload_tables(ctx->fog.airlight, ctx->fog.surface, ctx->fog.version, &error) ||
-              !ctx->fog_renderer.upload_host_lights(frame, world_from_enu, range, &error))
-            return fail(ctx, ATMO_ERROR_GL, "get_fog_lighting", error);
-          f.light_count = static_cast<uint32_t>(frame.lights.size());
-          f.light_texture = ctx->fog_renderer.light_texture();
-          f.surface_table = ctx->fog_renderer.surface_table();
-          f.surface_table_size[0] = ctx->fog.surface.width;
-          f.surface_table_size[1] = ctx->fog.surface.height / fog::kSurfaceLayers;
-          f.medium[0] = ctx->fog.optics.extinction_per_m;
-          f.medium[1] = ctx->fog.optics.albedo;
-          f.medium[2] = frame.top_above_eye_m;
-          for (int i = 0; i < 4; ++i) f.diffusion[i] = frame.diffusion[i];
-          const glm::dvec3 up = world_from_enu * glm::dvec3(0.0, 0.0, 1.0);
-          for (int i = 0; i < 3; ++i) f.up_world[i] = up[i];
-          result = ATMO_SUCCESS;
+        if (ctx->lights.empty()) return ATMO_STATUS_NOTHING_TO_DRAW;
+        if (out->header.struct_size < offsetof(AtmoFogLighting, cluster_grid) + sizeof(f.cluster_grid)) {
+          // An include from before the clusters reads the lights in another layout: give it none.
+          if (!ctx->warned_old_fog_lighting)
+            ctx->services.log(ATMO_LOG_WARNING, "get_fog_lighting: the host's AtmoFogLighting (" +
+                                                    std::to_string(out->header.struct_size) +
+                                                    " bytes) predates the light clusters; its lights are left out "
+                                                    "(update atmo_fog_lights.glsl and atmo.h)");
+          ctx->warned_old_fog_lighting = true;
+          return ATMO_STATUS_NOTHING_TO_DRAW;
         }
-        return result;
+        const fog::FogFrame& frame = view_fog_frame(ctx, view);
+        const lights::LightClusters& clusters = view_light_clusters(ctx, view);
+        // The view's world axes from the eye's ENU.
+        const glm::dmat3 world_from_ecef = glm::transpose(
+            glm::dmat3(ecef_from_world_frame(view->state.world_frame, view->state.world_origin_geodetic)));
+        const glm::dmat3 world_from_enu = world_from_ecef * view->eye.ecef_from_enu;
+        const bool fogged = ctx->fog.enabled();
+        const fog::FogTable& airlight = fogged ? ctx->fog.airlight : no_fog_table();
+        const fog::FogTable& surface = fogged ? ctx->fog.surface : no_fog_table();
+        std::string error;
+        if (!ctx->fog_renderer.upload_tables(airlight, surface, fogged ? ctx->fog.version : ~uint64_t(0), &error) ||
+            !ctx->fog_renderer.upload_host_lights(frame, clusters, world_from_enu, &error))
+          return fail(ctx, ATMO_ERROR_GL, "get_fog_lighting", error);
+        f.light_count = static_cast<uint32_t>(frame.lights.size());
+        f.light_texture = ctx->fog_renderer.light_texture();
+        f.surface_table = ctx->fog_renderer.surface_table();
+        f.surface_table_size[0] = surface.width;
+        f.surface_table_size[1] = surface.height / fog::kSurfaceLayers;
+        f.medium[0] = fogged ? ctx->fog.optics.extinction_per_m : 0.0;
+        f.medium[1] = ctx->fog.optics.albedo;
+        f.medium[2] = frame.top_above_eye_m;
+        for (int i = 0; i < 4; ++i) f.diffusion[i] = frame.diffusion[i];
+        const glm::dvec3 up = world_from_enu * glm::dvec3(0.0, 0.0, 1.0);
+        for (int i = 0; i < 3; ++i) f.up_world[i] = up[i];
+        f.cluster_grid = ctx->fog_renderer.cluster_grid();
+        f.cluster_lists = ctx->fog_renderer.cluster_lists();
+        f.far_field = ctx->fog_renderer.far_field();
+        const glm::dmat4 clip_from_world = clusters.grid.clip_from_enu * glm::dmat4(glm::transpose(world_from_enu));
+        for (int c = 0; c < 4; ++c)
+          for (int r = 0; r < 4; ++r) f.cluster_from_position[c * 4 + r] = clip_from_world[c][r];
+        f.cluster_grid_size[0] = clusters.grid.tiles_x;
+        f.cluster_grid_size[1] = clusters.grid.tiles_y;
+        f.cluster_grid_size[2] = lights::ClusterGrid::kSlices;
+        f.cluster_range[0] = clusters.grid.near_m;
+        f.cluster_range[1] = std::log(clusters.grid.far_m / clusters.grid.near_m);
+        const glm::dmat3 enu_from_world = glm::transpose(world_from_enu);
+        for (int c = 0; c < 3; ++c)
+          for (int r = 0; r < 3; ++r) f.enu_from_world[c * 3 + r] = enu_from_world[c][r];
+        ctx->services.log(ATMO_LOG_DEBUG, pass_log_prefix(ctx, view) + "light clusters: " +
+                                              std::to_string(frame.lights.size()) + " lights, " +
+                                              std::to_string(clusters.pairs) + " pairs, " +
+                                              std::to_string(clusters.lists.size()) + " listed (longest " +
+                                              std::to_string(clusters.longest_list) + "), " +
+                                              std::to_string(clusters.overflow) + " to far fields");
+        return ATMO_SUCCESS;
       });
 }
 

@@ -27,6 +27,7 @@ FogFrame make_fog_frame(const FogMedium& fog, const lights::LightSet& lights, co
   if (!fog.enabled()) o.extinction_per_m = 0.0, o.multiple_scattering = false;
   const double top = std::isfinite(o.top_height_m) ? o.top_height_m - eye.eye.height_m : INFINITY;
   f.top_above_eye_m = std::isfinite(top) ? static_cast<float>(top) : kNoTop;
+  f.extinction_per_m = o.extinction_per_m;
   const glm::dmat3 enu_from_ecef = glm::transpose(eye.ecef_from_enu);
   // Every light against the eye, in its ENU axes (double until here).
   f.lights.resize(lights.size());
@@ -43,6 +44,7 @@ FogFrame make_fog_frame(const FogMedium& fog, const lights::LightSet& lights, co
     fl.cos_inner = static_cast<float>(l.cos_inner);
     fl.cos_outer = static_cast<float>(l.cos_outer);
     fl.lobes = l.lobes;
+    fl.mean_profile = static_cast<float>(l.mean_profile);
     distance[n] = glm::length(rel);
     power[n] = l.intensity_cd * l.mean_profile;
     floor_above_eye = std::min(floor_above_eye, rel.z);

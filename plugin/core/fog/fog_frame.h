@@ -44,12 +44,14 @@ struct FrameLight {
   glm::vec3 axis_enu{0.0f, 0.0f, 1.0f};
   float cos_inner = -2.0f, cos_outer = -2.0f;
   float lobes = 1.0f;               // 2: both ways along the axis (atmo_fog_cone)
+  float mean_profile = 1.0f;        // the cone's mean over the sphere (the diffusion term's power)
   float beta_per_m = 0.0f;          // effective extinction on the eye-light path
   float glow_radius_rad = 0.0f;     // 0: no glow above the threshold
 };
 struct FogFrame {
   std::vector<FrameLight> lights;   // every light (the glow pass draws those with a radius)
   float top_above_eye_m = kNoTop;
+  double extinction_per_m = 0.0;    // the fog's (0: none)
   // Diffusion light at the eye summed over the lights (docs/FOG.md): fluence
   // per channel, and per channel the vector sum of the flux towards the lights.
   glm::vec3 fluence{0.0f};

@@ -5,9 +5,11 @@
 #include <cstddef>
 #include <fstream>
 #include <iterator>
+#include <optional>
 
 #include <glad/gl.h>
 
+#include "atmo_host_scene/fog_lighting_binding.h"
 #include "atmo_host_scene/gl_program.h"
 
 namespace atmo::host_scene {
@@ -642,27 +644,9 @@ void Terrain::draw(const ViewSetup& view, const SceneLighting& lighting, const A
   const GLuint surface = fogged ? fog_program_[variant] : surface_program_[variant];
   glUseProgram(surface);
   set_common_uniforms(surface, clip_from_rel, eye_hi, eye_lo, view);
-  GLint old_active = 0, old_textures[2] = {0, 0};
-  if (fogged) {
-    // atmo_fog_lights.glsl's inputs, as its header says (units 0 and 1, restored below).
-    glGetIntegerv(GL_ACTIVE_TEXTURE, &old_active);
-    for (int u = 0; u < 2; ++u) {
-      glActiveTexture(GL_TEXTURE0 + u);
-      glGetIntegerv(GL_TEXTURE_BINDING_2D, &old_textures[u]);
-      glBindTexture(GL_TEXTURE_2D, u == 0 ? fog->surface_table : fog->light_texture);
-    }
-    glUniform1i(glGetUniformLocation(surface, "atmo_fog_surface_table"), 0);
-    glUniform1i(glGetUniformLocation(surface, "atmo_fog_light_texture"), 1);
-    glUniform4f(glGetUniformLocation(surface, "atmo_fog_medium"), float(fog->medium[0]), float(fog->medium[1]),
-                float(fog->medium[2]), float(fog->medium[3]));
-    glUniform4f(glGetUniformLocation(surface, "atmo_fog_diffusion"), float(fog->diffusion[0]), float(fog->diffusion[1]),
-                float(fog->diffusion[2]), float(fog->diffusion[3]));
-    glUniform3f(glGetUniformLocation(surface, "atmo_fog_up"), float(fog->up_world[0]), float(fog->up_world[1]),
-                float(fog->up_world[2]));
-    glUniform2f(glGetUniformLocation(surface, "atmo_fog_surface_table_size"), float(fog->surface_table_size[0]),
-                float(fog->surface_table_size[1]));
-    glUniform1i(glGetUniformLocation(surface, "atmo_fog_light_count"), static_cast<GLint>(fog->light_count));
-  }
+  // atmo_fog_lights.glsl's inputs, as its header says (units 0-4, restored when it goes).
+  std::optional<FogLightingBinding> fog_binding;
+  if (fogged) fog_binding.emplace(surface, *fog, 0);
   glUniform3fv(glGetUniformLocation(surface, "u_sun_dir"), 1, &sun_dir[0]);
   glUniform3fv(glGetUniformLocation(surface, "u_sun_lux"), 1, &sun_lux[0]);
   glUniform3fv(glGetUniformLocation(surface, "u_sky_lux"), 1, &sky_lux[0]);
@@ -681,13 +665,7 @@ void Terrain::draw(const ViewSetup& view, const SceneLighting& lighting, const A
   glBindVertexArray(runway_vao_);
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(runway_vertices_.size()));
   glDisable(GL_POLYGON_OFFSET_FILL);
-  if (fogged) {
-    for (int u = 0; u < 2; ++u) {
-      glActiveTexture(GL_TEXTURE0 + u);
-      glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(old_textures[u]));
-    }
-    glActiveTexture(static_cast<GLenum>(old_active));
-  }
+  fog_binding.reset();
 
   // Light points: additive, tested against depth but not writing it.
   const double pixel_angle = 2.0 * std::tan(0.5 * view.vfov_rad) / std::max(view.viewport[3], 1);
