@@ -1,6 +1,6 @@
-// One light's glow: a screen rectangle (NDC) that bounds where its single-
-// scattered light can exceed the glow threshold (computed on the CPU from
-// the cull bound, docs/FOG.md); instanced, one instance per light.
+// One light's glow core: a screen rectangle (NDC) that bounds its core angle
+// (or less, where its glow falls under the threshold sooner; computed on the
+// CPU, core/lights/glow_tiles.h); instanced, one instance per light.
 layout(location = 0) in vec4 a_rect;        // x0, y0, x1, y1 in NDC
 layout(location = 1) in vec4 a_light;       // position relative to the eye (ENU m), effective extinction 1/m
 layout(location = 2) in vec4 a_intensity;   // cd per channel (times the albedo), cos_inner

@@ -32,8 +32,9 @@ class GlStateGuard {
   GlStateGuard(const GlStateGuard&) = delete;
   GlStateGuard& operator=(const GlStateGuard&) = delete;
 
+  static constexpr int kMaxUnits = 16;  // the most units a guard saves (GL 3.3 guarantees 16 to a fragment shader)
+
  private:
-  static constexpr int kMaxUnits = 12;
   static constexpr int kMaxDrawBuffers = 8;
   static constexpr int kMaxHostErrors = 8;
   static constexpr int kPixelStores = 8;

@@ -1,7 +1,7 @@
 // Fog and point lights through the ABI: set_fog / set_lights validation (each
-// bad field named, nothing changed), no fog or no light -> no cost, the glow
-// pass against its C++ twin (the same GLSL text compiled on the CPU,
-// core/fog/fog_twin.h; the host include: fog_host_include_test.cpp), and finite, non-negative output
+// bad field named, nothing changed), no fog or no light -> no cost, and
+// finite, non-negative output (the glows against every light's exact glow:
+// fog_glow_test.cpp; the host include: fog_host_include_test.cpp)
 // where the model is fragile (a light at the eye, very thin and very dense
 // fog, the eye above the fog top, lights far away).
 #include <glad/gl.h>
@@ -13,13 +13,11 @@
 
 #include "atmo_support/image.h"
 #include "atmo_support/image_metrics.h"
-#include "core/fog/fog_twin.h"
 #include "plugin_gl_fixture.h"
 
 namespace {
 
 using namespace plugin_gl;
-namespace twin = atmo::fog::twin;
 
 constexpr double kEyeHeightM = 2.0;
 constexpr double kNightUtc = 1.72e9 + 12 * 3600.0;  // 2024-07-03 21:46 UTC: the Sun well below Innsbruck's horizon
@@ -72,14 +70,6 @@ AtmoResult draw_glows(Fixture& f, atmo::support::Image* out) {
   glFinish();
   *out = f.target->read_color();
   return r;
-}
-
-// The unit ENU direction through pixel (x, y) (row 0 = top) of a view from innsbruck_view.
-glm::dvec3 pixel_direction(double heading_deg, double pitch_deg, int x, int y) {
-  const glm::dvec2 ndc((x + 0.5) / kWidth * 2.0 - 1.0, 1.0 - (y + 0.5) / kHeight * 2.0);
-  const glm::dvec4 v = glm::inverse(kProjection) * glm::dvec4(ndc, 1.0, 1.0);
-  const glm::dmat3 world_from_view = glm::inverse(glm::dmat3(look(heading_deg, pitch_deg)));
-  return glm::normalize(world_from_view * (glm::dvec3(v) / v.w));
 }
 
 AtmoResult raw_set_fog(Fixture& f, const AtmoFogState* s) { return f.plugin->api().set_fog(f.context->handle(), s); }
@@ -267,104 +257,6 @@ TEST(FogPass, CallsOutOfOrderAreRefused) {
   EXPECT_EQ(api.get_fog_lighting(f.view->handle(), &small), ATMO_ERROR_STRUCT_TOO_SMALL);
   EXPECT_EQ(api.get_fog_lighting(f.view->handle(), &fl), ATMO_SUCCESS);
 }
-
-// The glow pass against the twin: the image with a light minus the image
-// without it (single scattering: the fog's own light is the same in both) is
-// the light's glow, pixel by pixel, as atmo_fog_glow evaluates it on the CPU.
-// geometry_depth_m > 0: host geometry covers the lower half of the image at that view depth (a plane
-// facing the camera), which must stop each glow's in-scattering where the ray meets it.
-void check_glow_against_twin(double geometry_depth_m) {
-  Fixture f;
-  const double heading = 10.0, pitch = 3.0;
-  set_night_view(f, kEyeHeightM, heading, pitch);
-  GLuint depth_texture = 0;
-  if (geometry_depth_m > 0.0) {
-    const glm::dvec4 clip = kProjection * glm::dvec4(0.0, 0.0, -geometry_depth_m, 1.0);
-    depth_texture = atmo::support::make_split_depth_texture(kWidth, kHeight, float(0.5 * clip.z / clip.w + 0.5));
-    AtmoViewState vs = innsbruck_view(kEyeHeightM, heading, pitch, kProjection);
-    vs.depth_texture = depth_texture;
-    f.view->set(vs);
-  }
-  const double visibility = 300.0, albedo = 0.999, g = 0.85;
-  f.context->set_fog(fog_of(visibility));
-  atmo::support::Image fog_only, lit;
-  ASSERT_EQ(draw_glows(f, &fog_only), ATMO_SUCCESS);
-  // An omni light and a beamed one (runway light: towards the eye, 3 degrees up), off the image centre.
-  std::vector<AtmoLightPoint> lights = {omni(30.0, 250.0, 8.0, 2e4), omni(-20.0, 400.0, 1.0, 2e4)};
-  lights[1].direction[1] = -1.0;
-  lights[1].direction[2] = std::tan(glm::radians(3.0));
-  lights[1].cone_inner_rad = glm::radians(10.0);
-  lights[1].cone_outer_rad = glm::radians(25.0);
-  const double threshold = 1e-3;
-  f.context->set_lights(lights_of(lights, threshold));
-  ASSERT_EQ(draw_glows(f, &lit), ATMO_SUCCESS);
-
-  const atmo::fog::FogTable table = atmo::fog::build_airlight_table(64, g);
-  const double beta = atmo::fog::extinction_from_visibility(visibility);
-  const float min_sin = static_cast<float>(0.5672 * std::tan(glm::radians(30.0)) / kHeight);
-  int compared = 0, bright = 0, missing = 0;
-  double worst = 0.0, sum_glow = 0.0, sum_occluded = 0.0, sum_unoccluded = 0.0;
-  for (int y = 0; y < kHeight; ++y)
-    for (int x = 0; x < kWidth; ++x) {
-      const glm::vec3 dir(pixel_direction(heading, pitch, x, y));
-      float d_vp = twin::ATMO_FOG_FAR;
-      if (geometry_depth_m > 0.0 && y >= kHeight / 2) {  // image row 0 is the top; the texture's row 0 the bottom
-        const glm::dvec2 ndc((x + 0.5) / kWidth * 2.0 - 1.0, 1.0 - (y + 0.5) / kHeight * 2.0);
-        const glm::dvec4 v = glm::inverse(kProjection) * glm::dvec4(ndc, 1.0, 1.0);
-        const glm::dvec3 ray = glm::dvec3(v) / v.w;
-        d_vp = static_cast<float>(geometry_depth_m * glm::length(ray) / -ray.z);
-      }
-      double expected = 0.0, unoccluded = 0.0;
-      for (const AtmoLightPoint& l : lights) {
-        const glm::vec3 to_light(l.position_m[0], l.position_m[1], l.position_m[2] - kEyeHeightM);
-        const bool cone = l.cone_outer_rad > 0.0;
-        const glm::vec3 axis = cone ? glm::normalize(glm::vec3(l.direction[0], l.direction[1], l.direction[2]))
-                                    : glm::vec3(0.0f, 0.0f, 1.0f);
-        const float ci = cone ? std::cos(float(l.cone_inner_rad)) : -2.0f;
-        const float co = cone ? std::cos(float(l.cone_outer_rad)) : -2.0f;
-        expected += albedo * l.intensity_cd *
-                    twin::atmo_fog_glow(table, 64.0f, float(beta), to_light, dir, axis, ci, co, 1.0f, d_vp, min_sin);
-        unoccluded += albedo * l.intensity_cd *
-                      twin::atmo_fog_glow(table, 64.0f, float(beta), to_light, dir, axis, ci, co, 1.0f,
-                                          twin::ATMO_FOG_FAR, min_sin);
-      }
-      if (d_vp < twin::ATMO_FOG_FAR) {
-        sum_occluded += expected;
-        sum_unoccluded += unoccluded;
-      }
-      const double got = atmo::support::luminance(lit.pixel(x, y)) - atmo::support::luminance(fog_only.pixel(x, y));
-      sum_glow += got;
-      if (expected > 2.0 * threshold) {
-        ++bright;
-        if (got <= 0.0) ++missing;  // culled where it is above the threshold
-      }
-      if (expected > 10.0 * threshold) {
-        // Each light's glow is culled where it is below the threshold: up to that much is missing per light.
-        worst = std::max(worst, std::max(std::abs(got - expected) - threshold * lights.size(), 0.0) / expected);
-        ++compared;
-      }
-    }
-  std::printf("glow vs twin: %d pixels above 10x threshold, worst relative difference (beyond the threshold per "
-              "light that culling may drop) %.2e; %d above 2x threshold, "
-              "%d of them culled; summed glow %.3g cd/m^2\n",
-              compared, worst, bright, missing, sum_glow);
-  EXPECT_GT(compared, 100);
-  EXPECT_LT(worst, 0.01);
-  EXPECT_EQ(missing, 0);
-  if (geometry_depth_m > 0.0) {
-    // The geometry must matter here: its half keeps well under half the glow it would have without it.
-    std::printf("behind geometry at %.0f m: the twin's glow is %.3f of the unoccluded one\n", geometry_depth_m,
-                sum_occluded / sum_unoccluded);
-    EXPECT_LT(sum_occluded, 0.5 * sum_unoccluded);
-    glDeleteTextures(1, &depth_texture);
-  }
-}
-
-TEST(FogPass, GlowMatchesItsTwin) { check_glow_against_twin(0.0); }
-
-// Host geometry between the eye and the lights (their glow's near part only) against the twin with the
-// ray's length from the depth: the glow pass reads the host depth.
-TEST(FogPass, GlowIsCutByHostGeometry) { check_glow_against_twin(60.0); }
 
 // Where the model is fragile the pass stays finite and non-negative.
 TEST(FogPass, FiniteWhereTheModelIsFragile) {

@@ -732,9 +732,9 @@ typedef struct AtmoFogLighting {
   /* Lights in light_texture; 0 without lights (then skip the include), and for a host with the 136-byte
      layout (its include predates the clusters: update host_sdk/include/atmo/atmo_fog_lights.glsl) */
   uint32_t light_count;
-  uint32_t light_texture;       /* GL_TEXTURE_2D RGBA32F, 4 texels a light, 256 lights a row, positions
-                                   relative to this view's eye in its world axes (valid until the next
-                                   get_fog_lighting) */
+  uint32_t light_texture;       /* GL_TEXTURE_2D RGBA32F: the clusters' lights, 3 texels each, 1024 a row
+                                   (positions relative to this view's eye in its world axes; valid until the
+                                   next get_fog_lighting) */
   uint32_t surface_table;       /* GL_TEXTURE_2D R32F, GL_LINEAR */
   uint32_t reserved;
   double surface_table_size[2]; /* for atmo_fog_surface_table_size */
@@ -742,8 +742,8 @@ typedef struct AtmoFogLighting {
   double diffusion[4];          /* for atmo_fog_diffusion */
   double up_world[3];           /* for atmo_fog_up */
   /* --- Grew after the 136-byte layout: the clusters (docs/FOG.md "Surfaces at scale") --- */
-  uint32_t cluster_grid;        /* GL_TEXTURE_2D RG32UI: per cluster its list's first entry and length */
-  uint32_t cluster_lists;       /* GL_TEXTURE_2D R32UI: the lists' light indices, 4096 a row */
+  uint32_t cluster_grid;        /* GL_TEXTURE_2D RG32UI: per cluster its first light in light_texture and count */
+  uint32_t reserved3;           /* 0 */
   uint32_t far_field;           /* GL_TEXTURE_3D RGBA32F, linear: per cluster the far field's irradiance on the
                                    faces +E, -E, +N, -N, +U, -U (lux), six stacks of the slices */
   uint32_t reserved2;

@@ -24,7 +24,6 @@
 //     fog.surface_table    -> sampler2D  atmo_fog_surface_table
 //     fog.light_texture    -> sampler2D  atmo_fog_light_texture
 //     fog.cluster_grid     -> usampler2D atmo_fog_cluster_grid
-//     fog.cluster_lists    -> usampler2D atmo_fog_cluster_lists
 //     fog.far_field        -> sampler3D  atmo_fog_far_field
 //   and set the uniforms
 //     atmo_fog_cluster_from_position = mat4(fog.cluster_from_position)
@@ -292,12 +291,15 @@ ATMO_FOG_FN vec2 atmo_fog_surface_terms_single(ATMO_FOG_IN(ATMO_FOG_TABLE) table
                                                float exponent) {
   float d = max(d_sp, 1.0e-3f);
   float direct = exp(-thickness) / (d * d);
-  float scattered = albedo * beta_path / (2.0f * ATMO_FOG_PI * d) * exp(-thickness);
-  float theta_s = acos(clamp(cos_s, -1.0f, 1.0f));
-  float theta_r = acos(clamp(cos_r, -1.0f, 1.0f));
-  float diffuse = direct * max(cos_s, 0.0f) + scattered * atmo_fog_surface_g(table, size, thickness, theta_s, 1.0f);
-  float specular = direct * pow(max(cos_r, 0.0f), exponent) +
-                   scattered * atmo_fog_surface_g(table, size, thickness, theta_r, exponent);
+  float diffuse = direct * max(cos_s, 0.0f);
+  float specular = direct * pow(max(cos_r, 0.0f), exponent);
+  if (beta_path > 0.0f) {  // clear air: no scattered light (and no table fetches)
+    float scattered = albedo * beta_path / (2.0f * ATMO_FOG_PI * d) * exp(-thickness);
+    float theta_s = acos(clamp(cos_s, -1.0f, 1.0f));
+    float theta_r = acos(clamp(cos_r, -1.0f, 1.0f));
+    diffuse += scattered * atmo_fog_surface_g(table, size, thickness, theta_s, 1.0f);
+    specular += scattered * atmo_fog_surface_g(table, size, thickness, theta_r, exponent);
+  }
   return vec2(diffuse, specular);
 }
 
@@ -327,9 +329,9 @@ ATMO_FOG_FN vec4 atmo_fog_cluster_of(vec4 clip, float distance, vec4 grid, vec2 
 #ifndef ATMO_TWIN
 #ifndef ATMO_FOG_NO_UNIFORMS
 uniform sampler2D atmo_fog_surface_table;
-uniform sampler2D atmo_fog_light_texture;  // RGBA32F, 4 texels per light, 256 lights a row
-uniform usampler2D atmo_fog_cluster_grid;  // RG32UI, per cluster: (first entry, entries)
-uniform usampler2D atmo_fog_cluster_lists; // R32UI, light indices, 4096 a row
+// The clusters' lights, each cluster's together: 3 texels a light, 1024 lights a row (see below).
+uniform sampler2D atmo_fog_light_texture;
+uniform usampler2D atmo_fog_cluster_grid;  // RG32UI, per cluster: (its first light, its lights)
 uniform sampler3D atmo_fog_far_field;      // RGBA32F, 6 stacks of slices: faces +E, -E, +N, -N, +U, -U (lux)
 uniform mat3 atmo_fog_enu_from_world;      // the eye's ENU axes from the view's world axes
 uniform mat4 atmo_fog_cluster_from_position;  // clip from the position relative to the eye (world axes)
@@ -340,8 +342,8 @@ uniform vec4 atmo_fog_diffusion;           // sigma_tr 1/m, mu 1/m, handover rat
 uniform vec3 atmo_fog_up;                  // unit up at the eye, world axes
 uniform vec2 atmo_fog_surface_table_size;
 
-vec4 atmo_fog_light_texel(int light, int k) {
-  return texelFetch(atmo_fog_light_texture, ivec2(4 * (light % 256) + k, light / 256), 0);
+vec4 atmo_fog_light_texel(uint light, int k) {
+  return texelFetch(atmo_fog_light_texture, ivec2(3 * int(light % 1024u) + k, int(light / 1024u)), 0);
 }
 
 // The light the plugin's lights (set_lights) send towards the eye from a
@@ -360,17 +362,16 @@ vec3 atmo_fog_lights_surface(vec3 position_rel_eye_m, vec3 normal, vec3 kd, vec3
   uvec2 list = texelFetch(atmo_fog_cluster_grid,
                           ivec2(cell.x, cell.z * atmo_fog_cluster_grid_size.y + cell.y), 0).xy;
   for (uint j = 0u; j < list.y; ++j) {
-    uint entry = list.x + j;
-    int i = int(texelFetch(atmo_fog_cluster_lists, ivec2(int(entry % 4096u), int(entry / 4096u)), 0).r);
+    uint i = list.x + j;
     vec4 t0 = atmo_fog_light_texel(i, 0);  // position rel eye, range m
     vec3 to_light = t0.xyz - position_rel_eye_m;
     float d = length(to_light);
     if (d > t0.w) continue;
     vec4 t1 = atmo_fog_light_texel(i, 1);  // intensity * colour (cd), cos_inner
-    vec4 t2 = atmo_fog_light_texel(i, 2);  // cone axis, cos_outer
-    vec4 t3 = atmo_fog_light_texel(i, 3);  // cone lobes, unused
+    vec4 t2 = atmo_fog_light_texel(i, 2);  // cone axis, cos_outer (+ 4: the cone shines both ways)
     vec3 l = to_light / max(d, 1.0e-3);
-    float cone = atmo_fog_cone(t2.xyz, t1.w, t2.w, t3.x, -l);
+    bool both_ways = t2.w > 2.5;
+    float cone = atmo_fog_cone(t2.xyz, t1.w, both_ways ? t2.w - 4.0 : t2.w, both_ways ? 2.0 : 1.0, -l);
     if (cone <= 0.0) continue;
     float beta = atmo_fog_medium.x * atmo_fog_inside_fraction(z_point, dot(t0.xyz, atmo_fog_up), atmo_fog_medium.z);
     vec2 terms = atmo_fog_surface_terms_single(atmo_fog_surface_table, atmo_fog_surface_table_size, beta,

@@ -46,7 +46,8 @@ const lights::LightClusters& view_light_clusters(AtmoContext_T* ctx, AtmoView_T*
   if (!view->light_clusters || view->light_clusters_context_serial != ctx->fog_serial ||
       view->light_clusters_view_serial != view->state_serial) {
     const lights::ClusterGrid grid =
-        lights::ClusterGrid::for_view(clip_from_enu(view), view->state.viewport[2], view->state.viewport[3]);
+        lights::ClusterGrid::for_view(clip_from_enu(view), view->state.viewport[2], view->state.viewport[3],
+                                      lights::ClusterGrid::kSurfaceTilePx);
     view->light_clusters = lights::cluster_lights(frame, grid, static_cast<float>(ctx->fog.optics.albedo),
                                                   glow_threshold(ctx, view));
     view->light_clusters_context_serial = ctx->fog_serial;
@@ -79,14 +80,20 @@ AtmoResult fog_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& sce
   in.ambient_cd_m2 = glm::vec3(fog::ambient_radiance_cd_m2(ctx->fog.optics, sky, scene, ctx->atmosphere.ground_albedo));
   const double tan_half = 1.0 / std::max(std::abs(view->state.clip_from_view[5]), 1e-12);
   in.min_sin = static_cast<float>(fog::glow_min_sin(tan_half, view->state.viewport[3]));
+  const lights::GlowTiles glows = lights::bin_glows(frame, ctx->fog.airlight, clip_from_enu(view),
+                                                    view->state.viewport[2], view->state.viewport[3], in.min_sin);
+  in.glows = &glows;
   std::string error;
   if (!ctx->fog_renderer.upload_tables(ctx->fog.airlight, ctx->fog.surface, ctx->fog.version, &error) ||
       !ctx->fog_renderer.draw(ctx->renderer, inputs, in, &error))
     return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_LIGHT_GLOWS)", error);
   const gl::FogDrawStats& st = ctx->fog_renderer.last_stats();
   ctx->services.log(ATMO_LOG_DEBUG, pass_log_prefix(ctx, view) + "fog: " + std::to_string(st.lights) + " lights, " +
-                                        std::to_string(st.glows_drawn) + " glows drawn over " +
-                                        std::to_string(static_cast<long long>(st.covered_pixels)) + " pixels");
+                                        std::to_string(st.glows_drawn) + " glow cores over " +
+                                        std::to_string(static_cast<long long>(st.covered_pixels)) + " pixels, " +
+                                        std::to_string(glows.lists.size()) + " tile glows (" +
+                                        std::to_string(glows.merged.size()) + " merged, longest list " +
+                                        std::to_string(glows.longest_list) + ")");
   return ATMO_SUCCESS;
 }
 
@@ -223,7 +230,6 @@ AtmoResult get_fog_lighting(AtmoView view_handle, AtmoFogLighting* out) {
         const glm::dvec3 up = world_from_enu * glm::dvec3(0.0, 0.0, 1.0);
         for (int i = 0; i < 3; ++i) f.up_world[i] = up[i];
         f.cluster_grid = ctx->fog_renderer.cluster_grid();
-        f.cluster_lists = ctx->fog_renderer.cluster_lists();
         f.far_field = ctx->fog_renderer.far_field();
         const glm::dmat4 clip_from_world = clusters.grid.clip_from_enu * glm::dmat4(glm::transpose(world_from_enu));
         for (int c = 0; c < 4; ++c)

@@ -46,7 +46,7 @@ struct FrameLight {
   float lobes = 1.0f;               // 2: both ways along the axis (atmo_fog_cone)
   float mean_profile = 1.0f;        // the cone's mean over the sphere (the diffusion term's power)
   float beta_per_m = 0.0f;          // effective extinction on the eye-light path
-  float glow_radius_rad = 0.0f;     // 0: no glow above the threshold
+  float glow_radius_rad = 0.0f;     // where the glow falls under kGlowReachFraction of the threshold (0: nowhere)
 };
 struct FogFrame {
   std::vector<FrameLight> lights;   // every light (the glow pass draws those with a radius)
@@ -68,6 +68,9 @@ FogFrame make_fog_frame(const FogMedium& fog, const lights::LightSet& lights, co
 // (direct, scattered and diffusion terms, facing it) below the threshold:
 // the host include skips it there.
 std::vector<float> surface_light_ranges(const FogMedium& fog, const FogFrame& frame, double threshold_cd_m2);
+
+// A glow is followed until it falls under this fraction of the threshold: many such glows add up.
+constexpr double kGlowReachFraction = 0.1;
 
 // The glow threshold of a frame, cd/m^2: the host's when it set one (> 0),
 // else 1/2000 of the view's white (the luminance that maps to 1 at this exposure).

@@ -33,19 +33,21 @@
 
 namespace atmo::lights {
 
-// The cluster grid of a view: tiles of kTilePx pixels (at least kMinTiles and
-// at most kMaxTiles across, square) and kSlices slices of distance from the
-// eye, d_k = near (far / near)^(k / kSlices): each slice 1.33 times as deep as
-// the last, from 1 m to 10 km (beyond: the last slice).
+// The cluster grid of a view: square tiles of about tile_px pixels (at least
+// kMinTiles and at most kMaxTiles across) and kSlices slices of distance from
+// the eye, d_k = near (far / near)^(k / kSlices): each slice 1.47 times as
+// deep as the last, from 1 m to 10 km (beyond: the last slice). The surfaces'
+// clusters use kSurfaceTilePx (a light's list costs its pairs of light and
+// cluster, so they are coarse), the glows' tiles kGlowTilePx.
 struct ClusterGrid {
-  static constexpr int kTilePx = 32;
+  static constexpr int kSurfaceTilePx = 64, kGlowTilePx = 32;
   static constexpr int kMinTiles = 16, kMaxTiles = 64;
-  static constexpr int kSlices = 32;
+  static constexpr int kSlices = 24;
   int tiles_x = 1, tiles_y = 1;
   double near_m = 1.0, far_m = 10000.0;
   glm::dmat4 clip_from_enu{1.0};  // the host's projection times view-from-ENU-at-the-eye (rotation only)
 
-  static ClusterGrid for_view(const glm::dmat4& clip_from_enu, int viewport_width, int viewport_height);
+  static ClusterGrid for_view(const glm::dmat4& clip_from_enu, int viewport_width, int viewport_height, int tile_px);
   int froxels() const { return tiles_x * tiles_y * kSlices; }
   int index(int x, int y, int slice) const { return (slice * tiles_y + y) * tiles_x + x; }
   double slice_distance(double k) const;  // the distance at slice coordinate k

@@ -13,7 +13,6 @@ constexpr Sampler kSamplers[FogLightingBinding::kUnits] = {
     {"atmo_fog_surface_table", GL_TEXTURE_2D, GL_TEXTURE_BINDING_2D},
     {"atmo_fog_light_texture", GL_TEXTURE_2D, GL_TEXTURE_BINDING_2D},
     {"atmo_fog_cluster_grid", GL_TEXTURE_2D, GL_TEXTURE_BINDING_2D},
-    {"atmo_fog_cluster_lists", GL_TEXTURE_2D, GL_TEXTURE_BINDING_2D},
     {"atmo_fog_far_field", GL_TEXTURE_3D, GL_TEXTURE_BINDING_3D}};
 
 }  // namespace
@@ -21,8 +20,7 @@ constexpr Sampler kSamplers[FogLightingBinding::kUnits] = {
 FogLightingBinding::FogLightingBinding(GLuint program, const AtmoFogLighting& fog, int first_unit)
     : first_unit_(first_unit) {
   glGetIntegerv(GL_ACTIVE_TEXTURE, &active_);
-  const GLuint textures[kUnits] = {fog.surface_table, fog.light_texture, fog.cluster_grid, fog.cluster_lists,
-                                   fog.far_field};
+  const GLuint textures[kUnits] = {fog.surface_table, fog.light_texture, fog.cluster_grid, fog.far_field};
   for (int u = 0; u < kUnits; ++u) {
     glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(first_unit + u));
     glGetIntegerv(kSamplers[u].binding, &previous_[u]);
