@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <functional>
+#include <map>
+#include <mutex>
 #include <thread>
 
 #include "core/clouds/parallel_bands.h"
@@ -55,6 +57,10 @@ double lobe_power(double x, double n) {
   for (int i = 1; i < k; ++i) x *= x;
   return x;
 }
+
+// Up to 4 threads share a table's rows or columns (each texel written by one: the table does not depend on
+// the count).
+int table_threads() { return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 4u)); }
 
 double thickness_from_coordinate(double x) {
   // x = sqrt(u / (1 + u))  =>  u = x^2 / (1 - x^2)
@@ -113,13 +119,14 @@ double ghat(double u, double v, double g, double rel_tol) {
   if (u < 1.0) {
     const double tv = std::tan(v);
     auto f = [&](double xi) {
-      const double t = xi >= 0.5 * kPi ? INFINITY : std::tan(xi);
-      return phase_weight(xi, g) * (u > 0.0 ? std::exp(-u * (t - tv)) : 1.0);
+      if (xi >= 0.5 * kPi) return u > 0.0 ? 0.0 : phase_weight(xi, g);
+      const double t = std::tan(xi);
+      return phase_weight_of_tan(t, g) * (u > 0.0 ? std::exp(-u * (t - tv)) : 1.0);
     };
-    // The integral's size, for the tolerance only: a 64-point midpoint sum of the phase part.
+    // The integral's size, for the tolerance only: an 8-point midpoint sum of the phase part.
     double scale = 0.0;
-    for (int k = 0; k < 64; ++k) scale += phase_weight(v + (k + 0.5) / 64.0 * (0.5 * kPi - v), g);
-    scale *= (0.5 * kPi - v) / 64.0;
+    for (int k = 0; k < 8; ++k) scale += phase_weight(v + (k + 0.5) / 8.0 * (0.5 * kPi - v), g);
+    scale *= (0.5 * kPi - v) / 8.0;
     return integrate(f, v, 0.5 * kPi, rel_tol * std::max(scale, 1e-30), 16);
   }
   // u >= 1: s = tan xi - tan v = y / u, y = -ln(1 - w): Ghat = (1/u) int_0^1 q(xi) / (1 + (tan v + s)^2) dw.
@@ -143,17 +150,19 @@ FogTable build_airlight_table(int size, double g) {
   FogTable t;
   t.width = t.height = size;
   t.texels.resize(static_cast<size_t>(size) * size);
-  for (int j = 0; j < size; ++j) {
-    // The v = pi/2 row holds the limit y -> 0, taken at a y far below any texel.
-    const double y = std::max(0.5 * kPi * (1.0 - static_cast<double>(j) / (size - 1)), 1e-7);
-    const double v = 0.5 * kPi - y;
-    for (int i = 0; i < size; ++i) {
-      // The u = inf column holds the limit, taken at a u far above any texel's.
-      const double u = std::min(thickness_from_coordinate(static_cast<double>(i) / (size - 1)), 1e8);
-      const double scale = twin::atmo_fog_ghat_scale(static_cast<float>(u), static_cast<float>(y));
-      t.texels[static_cast<size_t>(j) * size + i] = static_cast<float>(ghat(u, v, g, 1e-9) / scale);
+  clouds::for_bands(size, table_threads(), [&](int begin, int end) {
+    for (int j = begin; j < end; ++j) {
+      // The v = pi/2 row holds the limit y -> 0, taken at a y far below any texel.
+      const double y = std::max(0.5 * kPi * (1.0 - static_cast<double>(j) / (size - 1)), 1e-7);
+      const double v = 0.5 * kPi - y;
+      for (int i = 0; i < size; ++i) {
+        // The u = inf column holds the limit, taken at a u far above any texel's.
+        const double u = std::min(thickness_from_coordinate(static_cast<double>(i) / (size - 1)), 1e8);
+        const double scale = twin::atmo_fog_ghat_scale(static_cast<float>(u), static_cast<float>(y));
+        t.texels[static_cast<size_t>(j) * size + i] = static_cast<float>(ghat(u, v, g, 1e-7) / scale);  // float texels
+      }
     }
-  }
+  });
   return t;
 }
 
@@ -179,19 +188,41 @@ std::vector<double> lobe_row(double theta, double n, int m) {
   return row;
 }
 
+// The surface table's Ghat to this relative tolerance: its texels are floats, interpolated, and the surface
+// integral averages over gamma.
+constexpr double kSurfaceTolerance = 1e-6;
+
 std::vector<double> surface_ghat_row(double thickness, double g, int m) {
   std::vector<double> row(m);
   for (int j = 0; j < m; ++j) {
     const double gamma = kPi * j / (m - 1);
-    row[j] = ghat(thickness * std::sin(gamma), 0.5 * gamma, g, 1e-8);
+    row[j] = ghat(thickness * std::sin(gamma), 0.5 * gamma, g, kSurfaceTolerance);
   }
   return row;
 }
 
-constexpr int kSurfaceGammaSamples = 1025;
+constexpr int kSurfaceGammaSamples = 513;
 
-// Up to 4 threads share a table's columns (each texel written by one: the table does not depend on the count).
-int table_threads() { return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 4u)); }
+// The lobes' azimuth integrals for every row of a surface table of theta_size angles (layer k, angle j):
+// they depend on neither the thickness nor the phase, so a process makes them once per table height.
+const std::vector<double>& surface_lobes(int theta_size) {
+  static std::mutex mutex;
+  static std::map<int, std::vector<double>> made;
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::vector<double>& lobes = made[theta_size];
+  if (lobes.empty()) {
+    const int m = kSurfaceGammaSamples, rows = theta_size * kSurfaceLayers;
+    lobes.resize(static_cast<size_t>(rows) * m);
+    clouds::for_bands(rows, table_threads(), [&](int begin, int end) {
+      for (int r = begin; r < end; ++r) {
+        const double n = std::ldexp(1.0, r / theta_size), theta = kPi * (r % theta_size) / (theta_size - 1);
+        const std::vector<double> row = lobe_row(theta, n, m);
+        std::copy(row.begin(), row.end(), lobes.begin() + static_cast<std::ptrdiff_t>(r) * m);
+      }
+    });
+  }
+  return lobes;
+}
 
 }  // namespace
 
@@ -206,15 +237,7 @@ FogTable build_surface_table(int thickness_size, int theta_size, double g) {
   t.height = theta_size * kSurfaceLayers;
   t.texels.assign(static_cast<size_t>(t.width) * t.height, 0.0f);
   const int m = kSurfaceGammaSamples;
-  // The lobes' azimuth integrals, once for every row of the table (layer k, angle j).
-  std::vector<double> lobes(static_cast<size_t>(t.height) * m);
-  clouds::for_bands(t.height, table_threads(), [&](int begin, int end) {
-    for (int r = begin; r < end; ++r) {
-      const double n = std::ldexp(1.0, r / theta_size), theta = kPi * (r % theta_size) / (theta_size - 1);
-      const std::vector<double> row = lobe_row(theta, n, m);
-      std::copy(row.begin(), row.end(), lobes.begin() + static_cast<std::ptrdiff_t>(r) * m);
-    }
-  });
+  const std::vector<double>& lobes = surface_lobes(theta_size);
   clouds::for_bands(thickness_size, table_threads(), [&](int begin, int end) {
     for (int i = begin; i < end; ++i) {
       const double x = static_cast<double>(i) / (thickness_size - 1);
