@@ -161,7 +161,7 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  const Air fog{"RVR 550 m fog", 8000.0, 550.0, 300.0}, haze{"5 km haze", 5000.0, 0.0, 0.0},
+  const Air fog{"RVR 550 m fog", 8000.0, 550.0, 300.0}, haze{"5 km haze", 5000.0, 5000.0, 1500.0},
       clear{"clear night", 40000.0, 0.0, 0.0};
   std::vector<Case> cases;
   const uint32_t airport_count = static_cast<uint32_t>(hs::airport_lights(airport()).size());

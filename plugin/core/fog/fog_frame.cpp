@@ -69,10 +69,13 @@ FogFrame make_fog_frame(const FogMedium& fog, const lights::LightSet& lights, co
       const double peak = std::max({fl.intensity_cd.x, fl.intensity_cd.y, fl.intensity_cd.z});
       // Where the glow reaches a tenth of the threshold: glows under it add up over many lights (a town in
       // fog), which the merged glows of a tile keep (core/lights/glow_tiles.h).
-      fl.glow_radius_rad = fog.bound ? static_cast<float>(fog.bound->radius_rad(beta, o.albedo, std::max(d, 1e-3),
-                                                                                peak, kGlowReachFraction *
-                                                                                          threshold_cd_m2))
-                                     : 0.0f;
+      if (fog.bound) {
+        fl.glow_radius_rad = static_cast<float>(
+            fog.bound->radius_rad(beta, o.albedo, std::max(d, 1e-3), peak, kGlowReachFraction * threshold_cd_m2));
+        fl.visible_radius_rad = fl.glow_radius_rad > 0.0f ? static_cast<float>(fog.bound->radius_rad(
+                                                                beta, o.albedo, std::max(d, 1e-3), peak, threshold_cd_m2))
+                                                          : 0.0f;
+      }
       if (o.multiple_scattering && d > 0.0) {
         const glm::vec2 p1 = twin::atmo_fog_diffusion_light(f.diffusion, static_cast<float>(d),
                                                             static_cast<float>(beta * d), false);

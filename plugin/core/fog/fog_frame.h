@@ -47,6 +47,7 @@ struct FrameLight {
   float mean_profile = 1.0f;        // the cone's mean over the sphere (the diffusion term's power)
   float beta_per_m = 0.0f;          // effective extinction on the eye-light path
   float glow_radius_rad = 0.0f;     // where the glow falls under kGlowReachFraction of the threshold (0: nowhere)
+  float visible_radius_rad = 0.0f;  // ... and under the threshold itself (its core is drawn to here at most)
 };
 struct FogFrame {
   std::vector<FrameLight> lights;   // every light (the glow pass draws those with a radius)

@@ -78,8 +78,11 @@ GlowTiles bin_glows(const fog::FogFrame& frame, const fog::FogTable& airlight, c
     const glm::dvec3 towards = p / d;
     const glm::vec4 r = glow_rectangle(clip_from_enu, towards, l.glow_radius_rad);
     if (r.x >= r.z || r.y >= r.w) continue;  // off screen
-    out.cores.push_back(static_cast<uint32_t>(i));
-    out.core_radius_rad.push_back(static_cast<float>(std::min(double(l.glow_radius_rad), core_rad)));
+    // The core where it shows (above the threshold itself: it is drawn per light, at full resolution).
+    if (l.visible_radius_rad > min_sin) {
+      out.cores.push_back(static_cast<uint32_t>(i));
+      out.core_radius_rad.push_back(static_cast<float>(std::min(double(l.visible_radius_rad), core_rad)));
+    }
     if (!(l.glow_radius_rad > core_rad)) continue;  // the smooth part is under the threshold everywhere
     const double cone = fog::twin::atmo_fog_cone(l.axis_enu, l.cos_inner, l.cos_outer, l.lobes, glm::vec3(-towards));
     weight[i] = peak(l.intensity_cd) * std::max(cone, 0.05) * std::exp(-double(l.beta_per_m) * d) / d;
