@@ -1,5 +1,5 @@
 // abi_fuzz.cpp — the ABI's struct readers through the plugin's C API:
-// set_atmosphere, set_frame, set_view, set_clouds, set_lights, set_fog and
+// set_atmosphere, set_frame, set_view, set_clouds, set_lights, update_lights, set_light_group_pose, set_fog and
 // get_lighting with any bytes, any struct_size and type tag, extension chains
 // (cycles too), and arrays of any count and stride (abi_input.h). No GL: one
 // context per process, made once; each input starts from the same state (no
@@ -242,6 +242,25 @@ void call(Reader& in, AtmoView view) {
       check_result(g_api.set_lights(g_ctx, null ? nullptr : s.get()), "set_lights");
       break;
     }
+    case atmo_fuzz::kUpdateLights: {
+      HostStruct<AtmoLightsUpdate> s;
+      read_struct(in, head, ATMO_TYPE_LIGHTS_UPDATE, &s);
+      uint32_t count = head.count;
+      const uint32_t element = head.stride ? head.stride : static_cast<uint32_t>(sizeof(AtmoLightPoint));
+      std::vector<unsigned char> lights = read_array(in, &count, element, 16384);
+      s.value.light_count = count;
+      s.value.light_size = head.stride;
+      s.value.lights = reinterpret_cast<const AtmoLightPoint*>(lights.data());
+      if (head.flags & 8) s.value.lights = nullptr;
+      finish(&s);
+      check_result(g_api.update_lights(g_ctx, null ? nullptr : s.get()), "update_lights");
+      break;
+    }
+    case atmo_fuzz::kSetLightGroupPose:
+      return plain_call<AtmoLightGroupPose>(in, head, ATMO_TYPE_LIGHT_GROUP_POSE, "set_light_group_pose",
+                                            [](const AtmoLightGroupPose* p) {
+                                              return g_api.set_light_group_pose(g_ctx, p);
+                                            });
     case atmo_fuzz::kSetClouds: {
       HostStruct<AtmoCloudsState> s;
       read_struct(in, head, ATMO_TYPE_CLOUDS_STATE, &s);

@@ -5,7 +5,7 @@
 //   CallHead                       what to call and how to lie about the struct
 //   sizeof(T) bytes                the struct as the host wrote it (its pointers
 //                                  and header.next are replaced, see below)
-//   count * stride bytes           set_clouds' layers / set_lights' lights
+//   count * stride bytes           set_clouds' layers / set_lights' and update_lights' lights
 // Missing bytes at the end of the input read as zero.
 //
 // Pointers never come from the input: the harness points them at memory it
@@ -37,7 +37,9 @@ enum Op : uint8_t {
   kSetLights = 4,
   kSetFog = 5,
   kGetLighting = 6,
-  kOpCount = 7
+  kUpdateLights = 7,
+  kSetLightGroupPose = 8,
+  kOpCount = 9
 };
 
 enum CallFlags : uint8_t {

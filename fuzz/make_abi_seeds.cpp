@@ -118,6 +118,23 @@ int main(int argc, char** argv) {
       s.add(p);
       s.bytes.append(stride - sizeof(AtmoLightPoint), '\0');
     }
+    // The group's second light moved, then the group posed.
+    AtmoLightsUpdate u{};
+    u.header = ATMO_HEADER(ATMO_TYPE_LIGHTS_UPDATE, AtmoLightsUpdate);
+    u.first = 1;
+    s.head(kUpdateLights, 0, 0, 0, 1, sizeof(AtmoLightPoint));
+    s.add(u);
+    AtmoLightPoint moved{};
+    moved.position_m[0] = 30.0;
+    moved.intensity_cd = 2000.0;
+    moved.color[0] = moved.color[1] = moved.color[2] = 1.0;
+    s.add(moved);
+    AtmoLightGroupPose pose{};
+    pose.header = ATMO_HEADER(ATMO_TYPE_LIGHT_GROUP_POSE, AtmoLightGroupPose);
+    for (int k = 0; k < 4; ++k) pose.world_from_group[5 * k] = 1.0;
+    pose.world_from_group[12] = 50.0;
+    s.head(kSetLightGroupPose);
+    s.add(pose);
     s.head(kSetFrame);
     s.add(typical_frame());
     s.head(kSetView);
