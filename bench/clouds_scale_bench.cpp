@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "cloud_scene.h"
+#include "scale_options.h"
 
 namespace {
 
@@ -96,10 +97,10 @@ int main(int argc, char** argv) {
   uint32_t mode = ATMO_CLOUD_DRAW_LAYER;
   uint32_t quality = ATMO_CLOUD_QUALITY_DEFAULT;
   uint32_t setup = ATMO_CLOUD_SETUP_STREAM;
-  int frames = 5;
   std::vector<std::pair<int, int>> sizes = {{1280, 720}, {1920, 1080}};
-  std::string only, csv_path;
+  bench_scale::CommonOptions common;
   for (int i = 1; i < argc; ++i) {
+    if (common.take(argc, argv, &i)) continue;
     const std::string a = argv[i];
     const char* v = i + 1 < argc ? argv[i + 1] : "";
     if (a == "--setup") {
@@ -116,9 +117,6 @@ int main(int argc, char** argv) {
              : m == "auto"      ? ATMO_CLOUD_DRAW_AUTO
                                 : ATMO_CLOUD_DRAW_LAYER;
       ++i;
-    } else if (a == "--frames") {
-      frames = std::max(1, std::atoi(v));
-      ++i;
     } else if (a == "--quality") {
       const std::string q = v;
       const char* names[] = {"default", "low", "medium", "high", "full"};
@@ -129,12 +127,6 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "atmo_clouds_scale_bench: --quality %s: expected default, low, medium, high or full\n", v);
         return 2;
       }
-      ++i;
-    } else if (a == "--only") {
-      only = v;
-      ++i;
-    } else if (a == "--csv") {
-      csv_path = v;
       ++i;
     } else if (a == "--sizes") {
       sizes.clear();
@@ -151,7 +143,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  FILE* csv = csv_path.empty() ? nullptr : std::fopen(csv_path.c_str(), "w");
+  FILE* csv = common.csv_path.empty() ? nullptr : std::fopen(common.csv_path.c_str(), "w");
   if (csv)
     std::fprintf(csv, "size,case,sun_deg,clouds,set_clouds_ms,first_frame_ms,clouds_ms,pair_ms,ratio,field_MiB,"
                       "clipmap_MiB,gl_MiB,clipmap_ms,first_pair_ms,first_frame_x,ready_ms,swap_frame_x\n");
@@ -159,12 +151,12 @@ int main(int argc, char** argv) {
     Host host(w, h);
     host.set_cloud_quality(quality);
     std::printf("== %dx%d, %s, mode %u, cloud quality %u, %d timed frames a case ==\n", w, h,
-                host.gl().renderer().c_str(), mode, quality, frames);
+                host.gl().renderer().c_str(), mode, quality, common.frames);
     std::printf("%-48s %5s %7s %9s %9s %9s %8s %6s %7s %7s %7s %8s %8s %6s\n", "case", "sun", "clouds", "set_ms",
                 "first_ms", "clouds_ms", "pair_ms", "ratio", "fieldMB", "mapMB", "glMB", "frame1_x", "ready_ms",
                 "swap_x");
     for (const Case& c : cases()) {
-      if (!only.empty() && c.name.find(only) == std::string::npos) continue;
+      if (common.skips(c.name)) continue;
       for (double sun : {60.0, 5.0}) {
         const double utc = utc_for_sun(host, c.cam, sun);
         host.set_utc(utc);
@@ -209,7 +201,7 @@ int main(int argc, char** argv) {
         }
         const double ready_ms = now_ms() - t0;
         std::vector<double> clouds, pair;
-        for (int f = 0; f < frames; ++f) {
+        for (int f = 0; f < common.frames; ++f) {
           cam.east_m += 5.0;
           host.next_frame();
           host.set_view(cam);

@@ -32,6 +32,7 @@
 #include "atmo_host_scene/terrain.h"
 #include "atmo_support/headless_gl.h"
 #include "atmo_support/offscreen_target.h"
+#include "scale_options.h"
 
 namespace {
 
@@ -96,23 +97,15 @@ hs::TownSpec town(uint32_t lights) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int width = 1280, height = 720, frames = 5;
-  std::string only, csv_path;
+  int width = 1280, height = 720;
+  bench_scale::CommonOptions common;
   bool verbose = false;
   std::vector<uint32_t> counts = {100, 300, 1000, 3000, 10000, 30000, 65536};
   for (int i = 1; i < argc; ++i) {
+    if (common.take(argc, argv, &i)) continue;
     const std::string a = argv[i];
     const char* v = i + 1 < argc ? argv[i + 1] : "";
     if (a == "--size" && std::sscanf(v, "%dx%d", &width, &height) == 2) {
-      ++i;
-    } else if (a == "--frames") {
-      frames = std::max(1, std::atoi(v));
-      ++i;
-    } else if (a == "--only") {
-      only = v;
-      ++i;
-    } else if (a == "--csv") {
-      csv_path = v;
       ++i;
     } else if (a == "--verbose") {
       verbose = true;
@@ -170,16 +163,16 @@ int main(int argc, char** argv) {
   for (const Air& a : {fog, clear})
     for (uint32_t n : counts) cases.push_back({"town " + std::to_string(n) + " lights, " + a.name, a, false, n});
 
-  std::FILE* csv = csv_path.empty() ? nullptr : std::fopen(csv_path.c_str(), "w");
+  std::FILE* csv = common.csv_path.empty() ? nullptr : std::fopen(common.csv_path.c_str(), "w");
   if (csv)
     std::fprintf(csv, "case,air,lights,pair_ms,glows_ms,points_ms,light_passes_ms,light_x,host_ms,host_x,"
                       "get_fog_lighting_ms,set_lights_ms,update_1000_ms,set_fog_ms\n");
   std::printf("== %dx%d, %s, %d timed frames a case (wall time to glFinish, median) ==\n", width, height,
-              gl->renderer().c_str(), frames);
+              gl->renderer().c_str(), common.frames);
   std::printf("%-48s %7s %8s %8s %8s %7s %8s %7s %8s %8s %8s %8s\n", "case", "lights", "pair_ms", "glows_ms",
               "points_ms", "light_x", "host_ms", "host_x", "lit_cpu", "set_ms", "upd_ms", "fog_ms");
   for (const Case& c : cases) {
-    if (!only.empty() && c.name.find(only) == std::string::npos) continue;
+    if (common.skips(c.name)) continue;
     atmo::Context context(plugin, &services);
     context.gl_init();
     atmo::View view(context, 0);
@@ -229,7 +222,7 @@ int main(int argc, char** argv) {
     const hs::SceneLighting lighting;
 
     std::vector<double> pair, glows, points, host, cpu, update;
-    for (int f = -1; f < frames; ++f) {  // frame -1 warms up (programs, tables)
+    for (int f = -1; f < common.frames; ++f) {  // frame -1 warms up (programs, tables)
       setup.pose.position_enu_m.y += 5.0;
       view.set(hs::make_view_state(setup));
       // 1 000 cars' lights move 1 m along x.

@@ -200,6 +200,23 @@ void plain_call(Reader& in, const CallHead& head, AtmoStructType type, const cha
   check_result(api_call((head.flags & atmo_fuzz::kNullStruct) ? nullptr : s.get()), function);
 }
 
+// A call whose struct points at an array of lights (AtmoLightsState,
+// AtmoLightsUpdate): the array follows the struct; flag 8 makes its pointer NULL.
+template <typename T, typename Call>
+void light_array_call(Reader& in, const CallHead& head, AtmoStructType type, const char* function, Call&& api_call) {
+  HostStruct<T> s;
+  read_struct(in, head, type, &s);
+  uint32_t count = head.count;
+  // light_size 0 means version 1's size (atmo.h): the array is sized as the plugin reads it.
+  const uint32_t element = head.stride ? head.stride : static_cast<uint32_t>(sizeof(AtmoLightPoint));
+  std::vector<unsigned char> lights = read_array(in, &count, element, 16384);
+  s.value.light_count = count;
+  s.value.light_size = head.stride;
+  s.value.lights = (head.flags & 8) ? nullptr : reinterpret_cast<const AtmoLightPoint*>(lights.data());
+  finish(&s);
+  check_result(api_call((head.flags & atmo_fuzz::kNullStruct) ? nullptr : s.get()), function);
+}
+
 void call(Reader& in, AtmoView view) {
   CallHead head;
   in.read(&head, sizeof(head));
@@ -227,35 +244,12 @@ void call(Reader& in, AtmoView view) {
       check_result(g_api.set_fog(g_ctx, null ? nullptr : s.get()), "set_fog");
       break;
     }
-    case atmo_fuzz::kSetLights: {
-      HostStruct<AtmoLightsState> s;
-      read_struct(in, head, ATMO_TYPE_LIGHTS_STATE, &s);
-      uint32_t count = head.count;
-      // light_size 0 means version 1's size (atmo.h): the array is sized as the plugin reads it.
-      const uint32_t element = head.stride ? head.stride : static_cast<uint32_t>(sizeof(AtmoLightPoint));
-      std::vector<unsigned char> lights = read_array(in, &count, element, 16384);
-      s.value.light_count = count;
-      s.value.light_size = head.stride;
-      s.value.lights = reinterpret_cast<const AtmoLightPoint*>(lights.data());
-      if (head.flags & 8) s.value.lights = nullptr;
-      finish(&s);
-      check_result(g_api.set_lights(g_ctx, null ? nullptr : s.get()), "set_lights");
-      break;
-    }
-    case atmo_fuzz::kUpdateLights: {
-      HostStruct<AtmoLightsUpdate> s;
-      read_struct(in, head, ATMO_TYPE_LIGHTS_UPDATE, &s);
-      uint32_t count = head.count;
-      const uint32_t element = head.stride ? head.stride : static_cast<uint32_t>(sizeof(AtmoLightPoint));
-      std::vector<unsigned char> lights = read_array(in, &count, element, 16384);
-      s.value.light_count = count;
-      s.value.light_size = head.stride;
-      s.value.lights = reinterpret_cast<const AtmoLightPoint*>(lights.data());
-      if (head.flags & 8) s.value.lights = nullptr;
-      finish(&s);
-      check_result(g_api.update_lights(g_ctx, null ? nullptr : s.get()), "update_lights");
-      break;
-    }
+    case atmo_fuzz::kSetLights:
+      return light_array_call<AtmoLightsState>(in, head, ATMO_TYPE_LIGHTS_STATE, "set_lights",
+                                               [](const AtmoLightsState* p) { return g_api.set_lights(g_ctx, p); });
+    case atmo_fuzz::kUpdateLights:
+      return light_array_call<AtmoLightsUpdate>(in, head, ATMO_TYPE_LIGHTS_UPDATE, "update_lights",
+                                                [](const AtmoLightsUpdate* p) { return g_api.update_lights(g_ctx, p); });
     case atmo_fuzz::kSetLightGroupPose:
       return plain_call<AtmoLightGroupPose>(in, head, ATMO_TYPE_LIGHT_GROUP_POSE, "set_light_group_pose",
                                             [](const AtmoLightGroupPose* p) {

@@ -5,18 +5,13 @@
 #include <string>
 
 #include "abi/struct_io.h"
+#include "abi/validation.h"
 
 namespace atmo::abi {
 
 namespace {
 
 Verdict bad(AtmoResult code, const std::string& message) { return {code, message}; }
-
-std::string num(double v) {
-  char b[64];
-  std::snprintf(b, sizeof(b), "%.6g", v);
-  return b;
-}
 
 }  // namespace
 
@@ -27,19 +22,19 @@ Verdict set_fog_state(const AtmoFogState& s, fog::FogMedium* fog) {
                          "single_scattering_albedo"};
   for (int i = 0; i < 5; ++i)
     if (!std::isfinite(fields[i]))
-      return bad(ATMO_ERROR_NON_FINITE_VALUE, std::string("AtmoFogState.") + names[i] + " is " + num(fields[i]));
+      return bad(ATMO_ERROR_NON_FINITE_VALUE, std::string("AtmoFogState.") + names[i] + " is " + number(fields[i]));
   if (s.visibility_m != 0.0 && (s.visibility_m < 10.0 || s.visibility_m > 100000.0))
-    return bad(ATMO_ERROR_OUT_OF_RANGE, "AtmoFogState.visibility_m = " + num(s.visibility_m) + " is outside [10, 100000] m");
+    return bad(ATMO_ERROR_OUT_OF_RANGE, "AtmoFogState.visibility_m = " + number(s.visibility_m) + " is outside [10, 100000] m");
   if (s.extinction_per_m < 0.0 || s.extinction_per_m > 1.0)
     return bad(ATMO_ERROR_OUT_OF_RANGE,
-               "AtmoFogState.extinction_per_m = " + num(s.extinction_per_m) + " is outside [0, 1] 1/m");
+               "AtmoFogState.extinction_per_m = " + number(s.extinction_per_m) + " is outside [0, 1] 1/m");
   if (s.top_height_m < -500.0 || s.top_height_m > 20000.0)
-    return bad(ATMO_ERROR_OUT_OF_RANGE, "AtmoFogState.top_height_m = " + num(s.top_height_m) + " is outside [-500, 20000] m");
+    return bad(ATMO_ERROR_OUT_OF_RANGE, "AtmoFogState.top_height_m = " + number(s.top_height_m) + " is outside [-500, 20000] m");
   if (std::abs(s.phase_asymmetry) > 0.95)
-    return bad(ATMO_ERROR_OUT_OF_RANGE, "AtmoFogState.phase_asymmetry = " + num(s.phase_asymmetry) + " is outside [-0.95, 0.95]");
+    return bad(ATMO_ERROR_OUT_OF_RANGE, "AtmoFogState.phase_asymmetry = " + number(s.phase_asymmetry) + " is outside [-0.95, 0.95]");
   if (s.single_scattering_albedo < 0.0 || s.single_scattering_albedo > 1.0)
     return bad(ATMO_ERROR_OUT_OF_RANGE,
-               "AtmoFogState.single_scattering_albedo = " + num(s.single_scattering_albedo) + " is outside (0, 1]");
+               "AtmoFogState.single_scattering_albedo = " + number(s.single_scattering_albedo) + " is outside (0, 1]");
   if (s.scattering >= ATMO_FOG_SCATTERING_COUNT)
     return bad(ATMO_ERROR_INVALID_ARGUMENT, "AtmoFogState.scattering = " + std::to_string(s.scattering) +
                                                 " is not an AtmoFogScattering");

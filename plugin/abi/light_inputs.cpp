@@ -6,6 +6,7 @@
 #include <string>
 
 #include "abi/struct_io.h"
+#include "abi/validation.h"
 #include "abi/world_frame.h"
 
 namespace atmo::abi {
@@ -13,12 +14,6 @@ namespace atmo::abi {
 namespace {
 
 Verdict bad(AtmoResult code, const std::string& message) { return {code, message}; }
-
-std::string num(double v) {
-  char b[64];
-  std::snprintf(b, sizeof(b), "%.6g", v);
-  return b;
-}
 
 // One light of the host's array as the plugin keeps it. `where` names the
 // array ("AtmoLightsState.lights"); messages add "[i].field". The string is
@@ -36,13 +31,13 @@ Verdict read_light(const unsigned char* element, uint32_t stride, const char* wh
   for (int k = 0; k < 3; ++k)
     if (std::abs(p.position_m[k]) > 1e9)  // a light beyond the Moon's orbit: a units mistake
       return bad(ATMO_ERROR_OUT_OF_RANGE, field("position_m[" + std::to_string(k) + "]") + " = " +
-                                              num(p.position_m[k]) + " is outside [-1e9, 1e9] m");
+                                              number(p.position_m[k]) + " is outside [-1e9, 1e9] m");
   if (p.intensity_cd < 0.0 || p.intensity_cd > 1e8)
-    return bad(ATMO_ERROR_OUT_OF_RANGE, field("intensity_cd") + " = " + num(p.intensity_cd) + " is outside [0, 1e8]");
+    return bad(ATMO_ERROR_OUT_OF_RANGE, field("intensity_cd") + " = " + number(p.intensity_cd) + " is outside [0, 1e8]");
   for (int c = 0; c < 3; ++c)
     if (p.color[c] < 0.0 || p.color[c] > 16.0)
       return bad(ATMO_ERROR_OUT_OF_RANGE,
-                 field("color[" + std::to_string(c) + "]") + " = " + num(p.color[c]) + " is outside [0, 16]");
+                 field("color[" + std::to_string(c) + "]") + " = " + number(p.color[c]) + " is outside [0, 16]");
   if (p.flags & ~uint32_t(ATMO_LIGHT_BIDIRECTIONAL))
     return bad(ATMO_ERROR_INVALID_ARGUMENT, field("flags") + " = " + std::to_string(p.flags) +
                                                 " holds bits that are not AtmoLightFlags");
@@ -52,14 +47,14 @@ Verdict read_light(const unsigned char* element, uint32_t stride, const char* wh
   if (p.cone_outer_rad != 0.0) {
     const glm::dvec3 axis(p.direction[0], p.direction[1], p.direction[2]);
     if (!(p.cone_inner_rad >= 0.0 && p.cone_inner_rad < p.cone_outer_rad && p.cone_outer_rad <= M_PI))
-      return bad(ATMO_ERROR_OUT_OF_RANGE, field("cone_*_rad") + ": inner " + num(p.cone_inner_rad) + ", outer " +
-                                              num(p.cone_outer_rad) + " rad; needs 0 <= inner < outer <= pi");
+      return bad(ATMO_ERROR_OUT_OF_RANGE, field("cone_*_rad") + ": inner " + number(p.cone_inner_rad) + ", outer " +
+                                              number(p.cone_outer_rad) + " rad; needs 0 <= inner < outer <= pi");
     const double length = glm::length(axis);
     if (!(length > 0.0) || !std::isfinite(length))
       return bad(ATMO_ERROR_INVALID_ARGUMENT, field("direction") + " is the zero vector (a cone needs an axis)");
     l.lobes = (p.flags & ATMO_LIGHT_BIDIRECTIONAL) ? 2.0f : 1.0f;
     if (l.lobes > 1.0f && p.cone_outer_rad > 0.5 * M_PI)
-      return bad(ATMO_ERROR_OUT_OF_RANGE, field("cone_outer_rad") + " = " + num(p.cone_outer_rad) +
+      return bad(ATMO_ERROR_OUT_OF_RANGE, field("cone_outer_rad") + " = " + number(p.cone_outer_rad) +
                                               ": a bidirectional light's cones may not overlap (at most pi/2)");
     l.axis = axis / length;
     l.cos_inner = std::cos(p.cone_inner_rad);
@@ -103,10 +98,10 @@ Verdict set_lights_state(const AtmoLightsState& s, lights::LightSet* set) {
                                             std::to_string(lights::kMaxGroups) + ")");
   if (!std::isfinite(s.glow_threshold_cd_m2) || s.glow_threshold_cd_m2 < 0.0)
     return bad(std::isfinite(s.glow_threshold_cd_m2) ? ATMO_ERROR_OUT_OF_RANGE : ATMO_ERROR_NON_FINITE_VALUE,
-               "AtmoLightsState.glow_threshold_cd_m2 = " + num(s.glow_threshold_cd_m2) + " must be >= 0");
+               "AtmoLightsState.glow_threshold_cd_m2 = " + number(s.glow_threshold_cd_m2) + " must be >= 0");
   if (!std::isfinite(s.visual_threshold_lux) || s.visual_threshold_lux < 0.0 || s.visual_threshold_lux > 1.0)
     return bad(std::isfinite(s.visual_threshold_lux) ? ATMO_ERROR_OUT_OF_RANGE : ATMO_ERROR_NON_FINITE_VALUE,
-               "AtmoLightsState.visual_threshold_lux = " + num(s.visual_threshold_lux) + " is outside [0, 1] lux");
+               "AtmoLightsState.visual_threshold_lux = " + number(s.visual_threshold_lux) + " is outside [0, 1] lux");
   if (s.world_frame == ATMO_WORLD_ENU) {
     const double* g = s.world_origin_geodetic;
     if (!std::isfinite(g[0]) || !std::isfinite(g[1]) || !std::isfinite(g[2]) || std::abs(g[0]) > 90.0)
@@ -163,14 +158,14 @@ Verdict set_light_group_pose_state(const AtmoLightGroupPose& p, lights::LightSet
   for (int k = 0; k < 16; ++k)
     if (!std::isfinite(p.world_from_group[k]))
       return bad(ATMO_ERROR_NON_FINITE_VALUE, "AtmoLightGroupPose.world_from_group[" + std::to_string(k) +
-                                                  "] = " + num(p.world_from_group[k]));
+                                                  "] = " + number(p.world_from_group[k]));
   const glm::dmat4 m = matrix(p.world_from_group);
   Verdict v;
   if (!rigid_transform(&v, m, "AtmoLightGroupPose.world_from_group")) return v;
   for (int k = 0; k < 3; ++k)
     if (std::abs(m[3][k]) > 1e9)
       return bad(ATMO_ERROR_OUT_OF_RANGE, "AtmoLightGroupPose.world_from_group[" + std::to_string(12 + k) + "] = " +
-                                              num(m[3][k]) + " is outside [-1e9, 1e9] m");
+                                              number(m[3][k]) + " is outside [-1e9, 1e9] m");
   it->second.set_pose(m);
   ++set->version;
   return {};

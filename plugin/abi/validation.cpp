@@ -11,11 +11,6 @@
 
 namespace atmo::abi {
 
-namespace {
-
-// Whole numbers below 1e15 in full (POSIX seconds), else the shortest form
-// (10 to 17 significant digits) that reads back as v, so a value just outside
-// a range never prints as the bound itself.
 std::string number(double v) {
   if (std::isfinite(v) && std::floor(v) == v && std::fabs(v) < 1e15) {
     std::ostringstream s;
@@ -32,6 +27,8 @@ std::string number(double v) {
   }
   return text;
 }
+
+namespace {
 
 // Each check returns false and fills the verdict on failure.
 bool finite(Verdict* v, const char* field, double value) {

@@ -17,6 +17,11 @@ struct Verdict {
   bool ok() const { return code == ATMO_SUCCESS; }
 };
 
+// A value for an error message: whole numbers below 1e15 in full (POSIX
+// seconds), else the shortest form (10 to 17 significant digits) that reads
+// back as v, so a value just outside a range never prints as the bound itself.
+std::string number(double v);
+
 Verdict validate_atmosphere(const AtmoAtmosphereState& s, core::AtmosphereSettings* out);
 Verdict validate_frame(const AtmoFrameState& s);
 // Fills the eye frame (double precision) from a valid view state.

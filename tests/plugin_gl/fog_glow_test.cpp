@@ -27,18 +27,7 @@ namespace twin = atmo::fog::twin;
 
 constexpr int kW = 320, kH = 180;
 constexpr double kEyeHeightM = 2.0;
-constexpr double kNightUtc = 1.72e9 + 12 * 3600.0;  // the Sun well below Innsbruck's horizon
 const glm::dmat4 kProjection = glm::perspective(glm::radians(40.0), double(kW) / kH, 1.0, 1e5);
-
-AtmoLightPoint omni(double east, double north, double up, double cd) {
-  AtmoLightPoint p{};
-  p.position_m[0] = east;
-  p.position_m[1] = north;
-  p.position_m[2] = up;
-  p.intensity_cd = cd;
-  p.color[0] = p.color[1] = p.color[2] = 1.0;
-  return p;
-}
 
 struct Stats {
   size_t pixels = 0, missing = 0;
@@ -56,9 +45,7 @@ struct Scene {
     std::string error;
     target = OffscreenTarget::create(kW, kH, &error);
     if (!target) throw std::runtime_error(error);
-    auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
-    frame.utc_posix_s = kNightUtc;
-    f.context->set_frame(frame);
+    f.set_utc(kJulyNightUtc);
   }
   ~Scene() {
     if (depth_texture) glDeleteTextures(1, &depth_texture);
@@ -164,7 +151,7 @@ void check_few_lights(double geometry_depth_m) {
   const double visibility = 300.0, threshold = 1e-3;
   s.f.context->set_fog(fog_of(visibility));
   const atmo::support::Image without = s.draw();
-  std::vector<AtmoLightPoint> lights = {omni(30.0, 250.0, 8.0, 2e4), omni(-20.0, 400.0, 1.0, 2e4)};
+  std::vector<AtmoLightPoint> lights = {atmo::omni_light(30.0, 250.0, 8.0, 2e4), atmo::omni_light(-20.0, 400.0, 1.0, 2e4)};
   lights[1].direction[1] = -1.0;
   lights[1].direction[2] = std::tan(glm::radians(3.0));
   lights[1].cone_inner_rad = glm::radians(10.0);
@@ -203,10 +190,10 @@ TEST(FogGlows, ManyLightsMergedAgainstEveryLightsGlow) {
     return double(state >> 11) * 0x1.0p-53;
   };
   for (int i = 0; i < 600; ++i)
-    lights.push_back(omni(-500.0 + 1000.0 * uniform(), 300.0 + 1200.0 * uniform(), 2.0 + 25.0 * uniform(),
+    lights.push_back(atmo::omni_light(-500.0 + 1000.0 * uniform(), 300.0 + 1200.0 * uniform(), 2.0 + 25.0 * uniform(),
                           50.0 + 3000.0 * uniform()));
   for (int i = 0; i < 30; ++i) {  // approach lights towards the eye
-    AtmoLightPoint l = omni(15.0, 150.0 + 30.0 * i, 1.0, 2e4);
+    AtmoLightPoint l = atmo::omni_light(15.0, 150.0 + 30.0 * i, 1.0, 2e4);
     l.direction[1] = -1.0;
     l.direction[2] = std::tan(glm::radians(3.0));
     l.cone_inner_rad = glm::radians(10.0);

@@ -30,22 +30,11 @@ using namespace plugin_gl;
 namespace twin = atmo::fog::twin;
 
 constexpr double kEyeHeightM = 2.0;
-constexpr double kNightUtc = 1.72e9 + 12 * 3600.0;  // the Sun well below Innsbruck's horizon
 // A 320 x 180 view, 40 degrees high, 12 degrees down (the fixture's target is too small for clusters of
 // 1.25 degrees, the size they have at 1280 x 720 and 40 degrees).
 constexpr int kW = 320, kH = 180;
 const glm::dmat4 kProjection = glm::perspective(glm::radians(40.0), double(kW) / kH, 1.0, 1e5);
 constexpr double kPitchDeg = -12.0;
-
-AtmoLightPoint omni(double east, double north, double up, double cd) {
-  AtmoLightPoint p{};
-  p.position_m[0] = east;
-  p.position_m[1] = north;
-  p.position_m[2] = up;
-  p.intensity_cd = cd;
-  p.color[0] = p.color[1] = p.color[2] = 1.0;
-  return p;
-}
 
 const char* kVertex =
     "#version 330 core\nvoid main(){vec2 p=vec2((gl_VertexID<<1)&2,gl_VertexID&2);"
@@ -188,9 +177,7 @@ struct Scene {
     std::string error;
     target = OffscreenTarget::create(kW, kH, &error);
     if (!target) throw std::runtime_error(error);
-    auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
-    frame.utc_posix_s = kNightUtc;
-    f.context->set_frame(frame);
+    f.set_utc(kJulyNightUtc);
     AtmoViewState vs = innsbruck_view(kEyeHeightM, 0.0, kPitchDeg, kProjection);
     vs.viewport[2] = kW;
     vs.viewport[3] = kH;
@@ -260,8 +247,8 @@ TEST(FogHostInclude, SurfaceShaderMatchesItsTwin) {
   for (const bool fog : {true, false}) {
     Scene s;
     if (fog) s.f.context->set_fog(fog_of(250.0));
-    std::vector<AtmoLightPoint> lights = {omni(-20.0, 80.0, 0.5, 5e3), omni(25.0, 130.0, 6.0, 2e4),
-                                          omni(0.0, 60.0, 0.3, 3e4)};
+    std::vector<AtmoLightPoint> lights = {atmo::omni_light(-20.0, 80.0, 0.5, 5e3), atmo::omni_light(25.0, 130.0, 6.0, 2e4),
+                                          atmo::omni_light(0.0, 60.0, 0.3, 3e4)};
     lights[2].direction[1] = -1.0;
     lights[2].cone_inner_rad = glm::radians(10.0);
     lights[2].cone_outer_rad = glm::radians(40.0);
@@ -300,7 +287,7 @@ TEST(FogHostInclude, SurfaceShaderMatchesItsTwin) {
 // light texture in another layout: it is given no lights (and told once in the log), not wrong ones.
 TEST(FogHostInclude, AnIncludeFromBeforeTheClustersGetsNoLights) {
   Scene s;
-  s.set_lights({omni(0.0, 60.0, 5.0, 1e4)});
+  s.set_lights({atmo::omni_light(0.0, 60.0, 5.0, 1e4)});
   AtmoFogLighting fl = atmo::make<AtmoFogLighting>(ATMO_TYPE_FOG_LIGHTING);
   fl.header.struct_size = 136;
   EXPECT_EQ(s.f.plugin->api().get_fog_lighting(s.f.view->handle(), &fl), ATMO_STATUS_NOTHING_TO_DRAW);
@@ -361,20 +348,20 @@ TEST(FogHostInclude, SurfacesAtScaleAgainstEveryLight) {
     const double east = -600.0 + 1200.0 * uniform(), north = 20.0 + 800.0 * uniform();
     const int kind = i % 4;
     if (kind == 0) {  // a street light: 9 m up, cut off upwards
-      AtmoLightPoint l = omni(east, north, 9.0, 2500.0);
+      AtmoLightPoint l = atmo::omni_light(east, north, 9.0, 2500.0);
       l.direction[2] = -1.0;
       l.cone_inner_rad = glm::radians(55.0);
       l.cone_outer_rad = glm::radians(85.0);
       lights.push_back(l);
     } else if (kind == 1) {  // a headlight along a street
-      AtmoLightPoint l = omni(east, north, 0.7, 10000.0);
+      AtmoLightPoint l = atmo::omni_light(east, north, 0.7, 10000.0);
       l.direction[0] = uniform() < 0.5 ? 1.0 : -1.0;
       l.direction[2] = -0.03;
       l.cone_inner_rad = glm::radians(10.0);
       l.cone_outer_rad = glm::radians(30.0);
       lights.push_back(l);
     } else {  // a window
-      lights.push_back(omni(east, north, 3.0 + 20.0 * uniform(), 20.0 + 130.0 * uniform()));
+      lights.push_back(atmo::omni_light(east, north, 3.0 + 20.0 * uniform(), 20.0 + 130.0 * uniform()));
     }
   }
   // Diffuse surfaces (the clusters' claim), then with a Phong lobe (ks 0.2, n 24): glints of lights in the

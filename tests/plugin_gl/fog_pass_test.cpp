@@ -20,23 +20,12 @@ namespace {
 using namespace plugin_gl;
 
 constexpr double kEyeHeightM = 2.0;
-constexpr double kNightUtc = 1.72e9 + 12 * 3600.0;  // 2024-07-03 21:46 UTC: the Sun well below Innsbruck's horizon
 
 AtmoFogState fog_of(double visibility_m, uint32_t scattering = ATMO_FOG_SCATTERING_SINGLE) {
   AtmoFogState s = atmo::make<AtmoFogState>(ATMO_TYPE_FOG_STATE);
   s.visibility_m = visibility_m;
   s.scattering = scattering;
   return s;
-}
-
-AtmoLightPoint omni(double east, double north, double up, double cd) {
-  AtmoLightPoint p{};
-  p.position_m[0] = east;
-  p.position_m[1] = north;
-  p.position_m[2] = up;
-  p.intensity_cd = cd;
-  p.color[0] = p.color[1] = p.color[2] = 1.0;
-  return p;
 }
 
 // Lights in the ENU frame at Innsbruck, height 0 (the eye is kEyeHeightM above its origin).
@@ -55,9 +44,7 @@ AtmoLightsState lights_of(const std::vector<AtmoLightPoint>& lights, double thre
 const glm::dmat4 kProjection = glm::perspective(glm::radians(60.0), double(kWidth) / kHeight, 1.0, 1e5);
 
 void set_night_view(Fixture& f, double height_m, double heading_deg, double pitch_deg) {
-  auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
-  frame.utc_posix_s = kNightUtc;
-  f.context->set_frame(frame);
+  f.set_utc(kJulyNightUtc);
   f.view->set(innsbruck_view(height_m, heading_deg, pitch_deg, kProjection));
 }
 
@@ -86,7 +73,7 @@ TEST(FogPass, NoFogOrNoLightsCostNothing) {
   AtmoFogLighting fl = atmo::make<AtmoFogLighting>(ATMO_TYPE_FOG_LIGHTING);
   EXPECT_EQ(f.plugin->api().get_fog_lighting(f.view->handle(), &fl), ATMO_STATUS_NOTHING_TO_DRAW);
   EXPECT_EQ(fl.light_count, 0u);
-  const std::vector<AtmoLightPoint> one = {omni(0.0, 100.0, 5.0, 1e4)};
+  const std::vector<AtmoLightPoint> one = {atmo::omni_light(0.0, 100.0, 5.0, 1e4)};
   f.context->set_lights(lights_of(one));
   EXPECT_EQ(draw_glows(f, &img), ATMO_STATUS_NOTHING_TO_DRAW);
   EXPECT_EQ(atmo::support::count_nonfinite(img), 0u);
@@ -161,7 +148,7 @@ TEST(FogPass, InvalidStatesAreRejectedWithTheFieldNamed) {
     AtmoResult code;
     const char* message;
   };
-  const AtmoLightPoint good = omni(0.0, 100.0, 5.0, 1e4);
+  const AtmoLightPoint good = atmo::omni_light(0.0, 100.0, 5.0, 1e4);
   std::vector<LightCase> cases;
   auto add = [&](const char* what, AtmoLightPoint p, AtmoResult code, const char* message) {
     cases.push_back({what, {good, p}, {}, code, message});
@@ -171,7 +158,7 @@ TEST(FogPass, InvalidStatesAreRejectedWithTheFieldNamed) {
   add("NaN position", p, ATMO_ERROR_NON_FINITE_VALUE, "lights[1]");
   p = good;
   p.position_m[0] = 3e9;
-  add("position beyond 1e9 m", p, ATMO_ERROR_OUT_OF_RANGE, "lights[1].position_m[0] = 3e+09");
+  add("position beyond 1e9 m", p, ATMO_ERROR_OUT_OF_RANGE, "lights[1].position_m[0] = 3000000000 is outside");
   p = good;
   p.intensity_cd = -1.0;
   add("negative intensity", p, ATMO_ERROR_OUT_OF_RANGE, "lights[1].intensity_cd = -1");
@@ -221,7 +208,7 @@ TEST(FogPass, InvalidStatesAreRejectedWithTheFieldNamed) {
   };
   std::vector<Grown> grown(2);
   grown[0].point = good;
-  grown[1].point = omni(10.0, 120.0, 5.0, 1e4);
+  grown[1].point = atmo::omni_light(10.0, 120.0, 5.0, 1e4);
   for (Grown& g : grown)
     for (double& v : g.future) v = std::nan("");  // never read
   AtmoLightsState ls = lights_of({});
@@ -236,15 +223,13 @@ TEST(FogPass, InvalidStatesAreRejectedWithTheFieldNamed) {
 TEST(FogPass, CallsOutOfOrderAreRefused) {
   Fixture f;
   f.context->set_fog(fog_of(200.0));
-  const std::vector<AtmoLightPoint> one = {omni(0.0, 100.0, 5.0, 1e4)};
+  const std::vector<AtmoLightPoint> one = {atmo::omni_light(0.0, 100.0, 5.0, 1e4)};
   f.context->set_lights(lights_of(one));
   AtmoFogLighting fl = atmo::make<AtmoFogLighting>(ATMO_TYPE_FOG_LIGHTING);
   const AtmoPluginApi& api = f.plugin->api();
   EXPECT_EQ(api.get_fog_lighting(f.view->handle(), &fl), ATMO_ERROR_CALL_OUT_OF_ORDER);
   EXPECT_NE(f.context->last_error().find("set_frame has not been called"), std::string::npos) << f.context->last_error();
-  auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
-  frame.utc_posix_s = kNightUtc;
-  f.context->set_frame(frame);
+  f.set_utc(kJulyNightUtc);
   EXPECT_EQ(api.get_fog_lighting(f.view->handle(), &fl), ATMO_ERROR_CALL_OUT_OF_ORDER);
   EXPECT_NE(f.context->last_error().find("set_view has not been called"), std::string::npos) << f.context->last_error();
   EXPECT_EQ(api.get_fog_lighting(f.view->handle(), nullptr), ATMO_ERROR_INVALID_ARGUMENT);
@@ -267,13 +252,13 @@ TEST(FogPass, FiniteWhereTheModelIsFragile) {
     AtmoLightPoint light;
   };
   const Case cases[] = {
-      {"light at the eye", 200.0, 0.0, 0.0, kEyeHeightM, 0.0, omni(0.0, 0.0, kEyeHeightM, 1e5)},
-      {"light on the view axis", 200.0, 0.0, 0.0, kEyeHeightM, 0.0, omni(0.0, 300.0, kEyeHeightM, 1e5)},
-      {"densest fog", 0.0, 1.0, 0.0, kEyeHeightM, 0.0, omni(0.0, 50.0, 3.0, 1e8)},
-      {"thinnest fog", 100000.0, 0.0, 0.0, kEyeHeightM, 0.0, omni(0.0, 50.0, 3.0, 1e8)},
-      {"light 1000 km away", 200.0, 0.0, 0.0, kEyeHeightM, 0.0, omni(0.0, 1e6, 3.0, 1e8)},
-      {"eye above the fog top", 500.0, 0.0, 100.0, 800.0, -30.0, omni(0.0, 600.0, 3.0, 1e5)},
-      {"top just at the eye", 500.0, 0.0, kEyeHeightM, kEyeHeightM, 10.0, omni(0.0, 100.0, 3.0, 1e5)},
+      {"light at the eye", 200.0, 0.0, 0.0, kEyeHeightM, 0.0, atmo::omni_light(0.0, 0.0, kEyeHeightM, 1e5)},
+      {"light on the view axis", 200.0, 0.0, 0.0, kEyeHeightM, 0.0, atmo::omni_light(0.0, 300.0, kEyeHeightM, 1e5)},
+      {"densest fog", 0.0, 1.0, 0.0, kEyeHeightM, 0.0, atmo::omni_light(0.0, 50.0, 3.0, 1e8)},
+      {"thinnest fog", 100000.0, 0.0, 0.0, kEyeHeightM, 0.0, atmo::omni_light(0.0, 50.0, 3.0, 1e8)},
+      {"light 1000 km away", 200.0, 0.0, 0.0, kEyeHeightM, 0.0, atmo::omni_light(0.0, 1e6, 3.0, 1e8)},
+      {"eye above the fog top", 500.0, 0.0, 100.0, 800.0, -30.0, atmo::omni_light(0.0, 600.0, 3.0, 1e5)},
+      {"top just at the eye", 500.0, 0.0, kEyeHeightM, kEyeHeightM, 10.0, atmo::omni_light(0.0, 100.0, 3.0, 1e5)},
   };
   for (const Case& c : cases) {
     for (uint32_t scattering : {uint32_t(ATMO_FOG_SCATTERING_SINGLE), uint32_t(ATMO_FOG_SCATTERING_AUTO)}) {

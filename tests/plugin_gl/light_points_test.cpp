@@ -28,21 +28,10 @@ namespace {
 using namespace plugin_gl;
 
 constexpr double kEyeHeightM = 20.0;
-constexpr double kNightUtc = 1.72e9 + 12 * 3600.0;  // 2024-07-03 21:46 UTC: the Sun well below Innsbruck's horizon
 constexpr double kNoonUtc = 1718964000.0;           // 2024-06-21 10:00 UTC: the Sun ~60 degrees up
 constexpr double kStatuteMileM = 1609.344;
 
 const glm::dmat4 kProjection = glm::perspective(glm::radians(40.0), double(kWidth) / kHeight, 1.0, 1e7);
-
-AtmoLightPoint omni(double east, double north, double up, double cd) {
-  AtmoLightPoint p{};
-  p.position_m[0] = east;
-  p.position_m[1] = north;
-  p.position_m[2] = up;
-  p.intensity_cd = cd;
-  p.color[0] = p.color[1] = p.color[2] = 1.0;
-  return p;
-}
 
 // Group `group` of lights in the ENU frame at Innsbruck, height 0.
 AtmoLightsState lights_of(const std::vector<AtmoLightPoint>& lights, uint32_t group = 0) {
@@ -63,16 +52,14 @@ struct Scene {
     lines->push_back(message);
   }
 
-  explicit Scene(double utc = kNightUtc, double visibility_m = 40000.0) {
+  explicit Scene(double utc = kJulyNightUtc, double visibility_m = 40000.0) {
     f.services.user = &log;
     f.services.log = &capture;
     f.fresh_context();
     auto air = atmo::make<AtmoAtmosphereState>(ATMO_TYPE_ATMOSPHERE_STATE);
     air.visibility_m = visibility_m;
     f.context->set_atmosphere(air);
-    auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
-    frame.utc_posix_s = utc;
-    f.context->set_frame(frame);
+    f.set_utc(utc);
   }
 
   AtmoViewState view_state() const {
@@ -187,10 +174,10 @@ TEST(LightPoints, EachImageHoldsItsIlluminanceAtTheEye) {
       s.f.context->set_fog(fs);
     }
     const double d_far = fog ? 2500.0 : 5.0 * kStatuteMileM;
-    std::vector<AtmoLightPoint> lights = {omni(-60.0, 300.0, 5.0, 2000.0), omni(0.0, 2000.0, 5.0, 10000.0),
-                                          omni(d_far * 0.25, d_far, 5.0, 20000.0)};
+    std::vector<AtmoLightPoint> lights = {atmo::omni_light(-60.0, 300.0, 5.0, 2000.0), atmo::omni_light(0.0, 2000.0, 5.0, 10000.0),
+                                          atmo::omni_light(d_far * 0.25, d_far, 5.0, 20000.0)};
     // A beamed light towards the eye, the eye 17.5 degrees off its axis, up the 10-25 degree ramp.
-    AtmoLightPoint beam = omni(-400.0, 1000.0, 5.0, 10000.0);
+    AtmoLightPoint beam = atmo::omni_light(-400.0, 1000.0, 5.0, 10000.0);
     const glm::dvec3 to_eye = glm::normalize(glm::dvec3(400.0, -1000.0, kEyeHeightM - 5.0));
     const glm::dvec3 side = glm::normalize(glm::cross(to_eye, glm::dvec3(0, 0, 1)));
     const glm::dvec3 axis = std::cos(glm::radians(17.5)) * to_eye + std::sin(glm::radians(17.5)) * side;
@@ -225,7 +212,7 @@ TEST(LightPoints, ARunwayLightShowsAtFiveStatuteMilesAndNotBeyondTheFogsAllardRa
   {
     Scene s;
     const glm::dvec3 p(0.0, 5.0 * kStatuteMileM, 3.0);
-    s.f.context->set_lights(lights_of({omni(p.x, p.y, p.z, 10000.0)}));
+    s.f.context->set_lights(lights_of({atmo::omni_light(p.x, p.y, p.z, 10000.0)}));
     AtmoResult r = ATMO_ERROR_INTERNAL;
     const atmo::support::Image img = s.draw(&r);
     EXPECT_EQ(r, ATMO_SUCCESS);
@@ -247,7 +234,7 @@ TEST(LightPoints, ARunwayLightShowsAtFiveStatuteMilesAndNotBeyondTheFogsAllardRa
     fs.visibility_m = 550.0;
     s.f.context->set_fog(fs);
     const glm::dvec3 p(0.0, f * range, 3.0);
-    s.f.context->set_lights(lights_of({omni(p.x, p.y, p.z, 10000.0)}));
+    s.f.context->set_lights(lights_of({atmo::omni_light(p.x, p.y, p.z, 10000.0)}));
     AtmoResult r = ATMO_ERROR_INTERNAL;
     const atmo::support::Image img = s.draw(&r);
     const double e = image_illuminance(img, s.window_of(p));
@@ -266,13 +253,13 @@ TEST(LightPoints, ARunwayLightShowsAtFiveStatuteMilesAndNotBeyondTheFogsAllardRa
 // nothing and costs no GL call; a 10 000 cd runway light there shows.
 TEST(LightPoints, ALightDimmerThanTheDaySkyDrawsNothing) {
   Scene s(kNoonUtc);
-  s.f.context->set_lights(lights_of({omni(0.0, 1000.0, 3.0, 10.0)}));
+  s.f.context->set_lights(lights_of({atmo::omni_light(0.0, 1000.0, 3.0, 10.0)}));
   AtmoResult r = ATMO_ERROR_INTERNAL;
   s.draw(&r);
   EXPECT_EQ(r, ATMO_STATUS_NOTHING_TO_DRAW);
   ASSERT_EQ(s.last_counts().size(), 4u);
   EXPECT_EQ(s.last_counts()[2], 1);  // under the eye's threshold
-  s.f.context->set_lights(lights_of({omni(0.0, 1000.0, 3.0, 10000.0)}));
+  s.f.context->set_lights(lights_of({atmo::omni_light(0.0, 1000.0, 3.0, 10000.0)}));
   const atmo::support::Image img = s.draw(&r);
   EXPECT_EQ(r, ATMO_SUCCESS);
   EXPECT_GT(image_illuminance(img, s.window_of({0.0, 1000.0, 3.0})), 1e-3);
@@ -289,8 +276,8 @@ TEST(LightPoints, HostGeometryHidesALightBehindIt) {
   const glm::dvec3 behind = glm::dvec3(-180.0, 500.0, kEyeHeightM - 100.0);
   const glm::dvec3 on = glm::dvec3(30.0, 100.0, kEyeHeightM - 15.0);
   const glm::dvec3 above = glm::dvec3(200.0, 500.0, kEyeHeightM + 60.0);
-  s.f.context->set_lights(lights_of({omni(behind.x, behind.y, behind.z, 5000.0), omni(on.x, on.y, on.z, 5000.0),
-                                     omni(above.x, above.y, above.z, 5000.0)}));
+  s.f.context->set_lights(lights_of({atmo::omni_light(behind.x, behind.y, behind.z, 5000.0), atmo::omni_light(on.x, on.y, on.z, 5000.0),
+                                     atmo::omni_light(above.x, above.y, above.z, 5000.0)}));
   const atmo::support::Image img = s.draw();
   EXPECT_EQ(image_illuminance(img, s.window_of(behind), 2), 0.0);
   EXPECT_GT(image_illuminance(img, s.window_of(on), 2), 0.0);
@@ -310,15 +297,15 @@ TEST(LightPoints, FragilePlacementsStayFiniteAndNonNegative) {
       fs.top_height_m = kEyeHeightM;
       s.f.context->set_fog(fs);
     }
-    std::vector<AtmoLightPoint> lights = {omni(0.0, 0.0, kEyeHeightM, 1e8),  omni(0.0, -5.0, kEyeHeightM, 1e4),
-                                          omni(1e-3, 1e-3, kEyeHeightM, 1e4), omni(0.0, 1e6, 0.0, 1e8),
-                                          omni(0.0, 50.0, kEyeHeightM, 1e4),  omni(5.0, 50.0, kEyeHeightM, 1e4)};
-    AtmoLightPoint edge = omni(10.0, 200.0, 5.0, 1e5);
+    std::vector<AtmoLightPoint> lights = {atmo::omni_light(0.0, 0.0, kEyeHeightM, 1e8),  atmo::omni_light(0.0, -5.0, kEyeHeightM, 1e4),
+                                          atmo::omni_light(1e-3, 1e-3, kEyeHeightM, 1e4), atmo::omni_light(0.0, 1e6, 0.0, 1e8),
+                                          atmo::omni_light(0.0, 50.0, kEyeHeightM, 1e4),  atmo::omni_light(5.0, 50.0, kEyeHeightM, 1e4)};
+    AtmoLightPoint edge = atmo::omni_light(10.0, 200.0, 5.0, 1e5);
     edge.direction[1] = -1.0;  // towards the eye's side, the eye just outside its outer edge
     edge.cone_inner_rad = 0.0;
     edge.cone_outer_rad = std::atan2(10.0, 200.0);
     lights.push_back(edge);
-    AtmoLightPoint both = omni(-10.0, 200.0, kEyeHeightM, 1e5);
+    AtmoLightPoint both = atmo::omni_light(-10.0, 200.0, kEyeHeightM, 1e5);
     both.direction[1] = 1.0;  // pointing away from the eye: its second lobe faces it
     both.cone_inner_rad = 0.0;
     both.cone_outer_rad = 0.1;
@@ -339,11 +326,11 @@ TEST(LightPoints, FragilePlacementsStayFiniteAndNonNegative) {
 
 TEST(LightGroups, EachCallReplacesItsOwnGroupAndNullClearsThemAll) {
   Scene s;
-  s.f.context->set_lights(lights_of({omni(0, 500, 5, 1e4), omni(20, 500, 5, 1e4), omni(40, 500, 5, 1e4)}, 0));
-  s.f.context->set_lights(lights_of({omni(-20, 600, 5, 1e4), omni(-40, 600, 5, 1e4)}, 7));
+  s.f.context->set_lights(lights_of({atmo::omni_light(0, 500, 5, 1e4), atmo::omni_light(20, 500, 5, 1e4), atmo::omni_light(40, 500, 5, 1e4)}, 0));
+  s.f.context->set_lights(lights_of({atmo::omni_light(-20, 600, 5, 1e4), atmo::omni_light(-40, 600, 5, 1e4)}, 7));
   s.draw();
   EXPECT_EQ(s.last_counts(), (std::vector<int>{5, 5, 0, 0}));
-  s.f.context->set_lights(lights_of({omni(0, 500, 5, 1e4)}, 0));  // group 0 now holds one
+  s.f.context->set_lights(lights_of({atmo::omni_light(0, 500, 5, 1e4)}, 0));  // group 0 now holds one
   s.draw();
   EXPECT_EQ(s.last_counts(), (std::vector<int>{3, 3, 0, 0}));
   s.f.context->set_lights(lights_of({}, 7));  // empties group 7
@@ -359,7 +346,7 @@ TEST(LightGroups, EachCallReplacesItsOwnGroupAndNullClearsThemAll) {
 // light in place.
 TEST(LightGroups, APoseMovesAGroupAndAnUpdateMovesItsLights) {
   Scene moved, direct;
-  const std::vector<AtmoLightPoint> group = {omni(0, 500, 5, 1e4), omni(250, 700, 5, 1e4)};
+  const std::vector<AtmoLightPoint> group = {atmo::omni_light(0, 500, 5, 1e4), atmo::omni_light(250, 700, 5, 1e4)};
   moved.f.context->set_lights(lights_of(group, 3));
   AtmoLightGroupPose pose = atmo::make<AtmoLightGroupPose>(ATMO_TYPE_LIGHT_GROUP_POSE);
   pose.group = 3;
@@ -400,7 +387,7 @@ TEST(LightGroups, BadInputIsRefusedWithTheLightNamedAndNothingChanges) {
   const auto& api = s.f.plugin->api();
   AtmoContext ctx = s.f.context->handle();
   const auto set = [&](const AtmoLightsState& st) { return api.set_lights(ctx, &st); };
-  std::vector<AtmoLightPoint> good = {omni(0, 500, 5, 1e4), omni(20, 500, 5, 1e4)};
+  std::vector<AtmoLightPoint> good = {atmo::omni_light(0, 500, 5, 1e4), atmo::omni_light(20, 500, 5, 1e4)};
   ASSERT_EQ(set(lights_of(good, 2)), ATMO_SUCCESS);
   const atmo::support::Image before = s.draw();
   auto refused = [&](AtmoResult r, AtmoResult expected, const std::string& needle) {
@@ -410,10 +397,10 @@ TEST(LightGroups, BadInputIsRefusedWithTheLightNamedAndNothingChanges) {
     EXPECT_EQ(atmo::support::compare_images(s.draw(), before, 1.0).max_abs, 0.0) << needle;
   };
   std::vector<AtmoLightPoint> bad = good;
-  bad.push_back(omni(0, 0, 0, 1e4));
+  bad.push_back(atmo::omni_light(0, 0, 0, 1e4));
   bad[2].position_m[1] = NAN;
   refused(set(lights_of(bad, 2)), ATMO_ERROR_NON_FINITE_VALUE, "AtmoLightsState.lights[2]");
-  bad[2] = omni(0, 0, 0, 1e4);
+  bad[2] = atmo::omni_light(0, 0, 0, 1e4);
   bad[2].flags = ATMO_LIGHT_BIDIRECTIONAL;  // no cone
   refused(set(lights_of(bad, 2)), ATMO_ERROR_INVALID_ARGUMENT, "AtmoLightsState.lights[2].flags");
   bad[2].cone_outer_rad = 2.0;  // bidirectional cones that overlap
@@ -422,7 +409,7 @@ TEST(LightGroups, BadInputIsRefusedWithTheLightNamedAndNothingChanges) {
           "AtmoLightsState.lights[2].cone_outer_rad");
   refused(set(lights_of(good, 4096)), ATMO_ERROR_OUT_OF_RANGE, "AtmoLightsState.group = 4096");
   // All groups together: at most ATMO_LIGHTS_MAX.
-  std::vector<AtmoLightPoint> many(ATMO_LIGHTS_MAX - 1, omni(0, 500, 5, 1.0));
+  std::vector<AtmoLightPoint> many(ATMO_LIGHTS_MAX - 1, atmo::omni_light(0, 500, 5, 1.0));
   refused(set(lights_of(many, 9)), ATMO_ERROR_OUT_OF_RANGE, "65536");
   // update_lights: a group with no lights, a range past the group's end, a bad light (index named).
   AtmoLightsUpdate u = atmo::make<AtmoLightsUpdate>(ATMO_TYPE_LIGHTS_UPDATE);
@@ -457,7 +444,7 @@ TEST(LightGroups, BadInputIsRefusedWithTheLightNamedAndNothingChanges) {
 TEST(LightGroups, VersionOneLightsReadNoFlags) {
   Scene s;
   std::vector<unsigned char> bytes(2 * 96, 0);
-  AtmoLightPoint a = omni(0, 500, 5, 1e4), b = omni(20, 500, 5, 1e4);
+  AtmoLightPoint a = atmo::omni_light(0, 500, 5, 1e4), b = atmo::omni_light(20, 500, 5, 1e4);
   std::memcpy(bytes.data(), &a, 96);
   std::memcpy(bytes.data() + 96, &b, 96);
   AtmoLightsState st = lights_of({});
@@ -473,7 +460,7 @@ TEST(LightGroups, VersionOneLightsReadNoFlags) {
 // turned towards the eye.
 TEST(LightGroups, ABidirectionalBeamShinesBothWays) {
   Scene both, towards;
-  AtmoLightPoint l = omni(0.0, 800.0, 5.0, 1e4);
+  AtmoLightPoint l = atmo::omni_light(0.0, 800.0, 5.0, 1e4);
   l.cone_inner_rad = 0.05;
   l.cone_outer_rad = 0.3;
   l.direction[1] = 1.0;  // away from the eye

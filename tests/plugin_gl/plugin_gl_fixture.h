@@ -20,6 +20,8 @@ using atmo::support::OffscreenTarget;
 
 constexpr int kWidth = 96;
 constexpr int kHeight = 64;
+// Times at the fixture's place, Innsbruck (47.26 N, 11.35 E).
+constexpr double kJulyNightUtc = 1.72e9 + 12 * 3600.0;  // 2024-07-03 21:46 UTC: the Sun well below the horizon
 
 struct Fixture {
   std::unique_ptr<HeadlessGl> gl;
@@ -40,6 +42,12 @@ struct Fixture {
     view = std::make_unique<atmo::View>(*context, 0);
     target = OffscreenTarget::create(kWidth, kHeight, &error);
     if (!target) throw std::runtime_error("offscreen target: " + error);
+  }
+
+  void set_utc(double utc_posix_s) {
+    auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+    frame.utc_posix_s = utc_posix_s;
+    context->set_frame(frame);
   }
 
   // A new context and view on the same GL context and plugin. A new context

@@ -56,6 +56,20 @@ inline AtmoCloudsState clouds_state(double latitude_deg, double longitude_deg, d
   return state;
 }
 
+// An omnidirectional light at (x, y, z) in the lights' world frame (metres)
+// of `intensity_cd` candela, white unless `rgb` says otherwise (relative
+// weights; the plugin reads intensity_cd * color).
+inline AtmoLightPoint omni_light(double x, double y, double z, double intensity_cd,
+                                 const double rgb[3] = nullptr) {
+  AtmoLightPoint p{};
+  p.position_m[0] = x;
+  p.position_m[1] = y;
+  p.position_m[2] = z;
+  p.intensity_cd = intensity_cd;
+  for (int k = 0; k < 3; ++k) p.color[k] = rgb ? rgb[k] : 1.0;
+  return p;
+}
+
 // `count` lights evenly along the segment from `start` to `end` (both
 // included; one light: at `start`), each a copy of `light` at its place: a
 // runway's edge, a road's street lights, an approach's bars. Positions in the
