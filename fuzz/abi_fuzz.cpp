@@ -209,7 +209,7 @@ void light_array_call(Reader& in, const CallHead& head, AtmoStructType type, con
   uint32_t count = head.count;
   // light_size 0 means version 1's size (atmo.h): the array is sized as the plugin reads it.
   const uint32_t element = head.stride ? head.stride : static_cast<uint32_t>(sizeof(AtmoLightPoint));
-  std::vector<unsigned char> lights = read_array(in, &count, element, 16384);
+  std::vector<unsigned char> lights = read_array(in, &count, element, ATMO_LIGHTS_MAX);
   s.value.light_count = count;
   s.value.light_size = head.stride;
   s.value.lights = (head.flags & 8) ? nullptr : reinterpret_cast<const AtmoLightPoint*>(lights.data());
