@@ -2,7 +2,7 @@
 // an airport (two runways, approach, touchdown-zone, centreline, edge and
 // taxiway lights) with a town behind it, 15 000 lights, seen on a 3-degree
 // approach at night in RVR 550 m fog, in 5 km haze and in clear air; then the
-// town alone from 100 to 65 536 lights. Each case prints, per pass, the wall
+// town alone from 100 to 65 536 lights over one extent (its density grows). Each case prints, per pass, the wall
 // time to glFinish (median of the timed frames) of the plugin's light passes
 // (LIGHT_GLOWS: the fog and the glows; LIGHT_POINTS), of what the lights add
 // to the host's terrain (get_fog_lighting, and the terrain lit through
@@ -87,10 +87,16 @@ hs::AirportSpec airport() {
   return a;
 }
 
-hs::TownSpec town(uint32_t lights) {
+// The town 6 km north: `lights` at the layout's density (1 300 a square kilometre) with the airport; alone,
+// `lights` over the extent the 15 000-light scene's town has (its 12 107 lights at that density, 9.3 km^2), so
+// the sweep adds lights, not lit ground.
+constexpr double kTownDensity = 1300.0;
+constexpr double kSweepTownKm2 = 12107.0 / kTownDensity;
+hs::TownSpec town(uint32_t lights, bool with_airport) {
   hs::TownSpec t;
   t.centre_enu_m = {0.0, 6000.0};
   t.lights = lights;
+  t.lights_per_km2 = with_airport ? kTownDensity : lights / kSweepTownKm2;
   return t;
 }
 
@@ -194,7 +200,7 @@ int main(int argc, char** argv) {
     // The lights: the airport in group 0, the town in group 1, its cars' lights (the first 1 000 after its
     // street lights) moved each frame through update_lights.
     std::vector<AtmoLightPoint> airport_lights = c.airport ? hs::airport_lights(airport()) : std::vector<AtmoLightPoint>{};
-    std::vector<AtmoLightPoint> town_lights = hs::town_lights(town(c.town_lights));
+    std::vector<AtmoLightPoint> town_lights = hs::town_lights(town(c.town_lights, c.airport));
     const double t0 = now_ms();
     if (!airport_lights.empty())
       context.set_lights(atmo::lights_state(0, airport_lights, kOrigin.latitude_deg, kOrigin.longitude_deg,

@@ -21,6 +21,11 @@ out vec4 out_color;
 
 void main() {
   vec2 ndc = ndc_xy();
+  // Past the core angle both terms below are the same glow: nothing to add (the rectangle's corners).
+  vec3 towards = normalize(v_light.xyz);
+  vec3 dir0 = normalize(u_enu_from_view * view_ray_from_ndc(u_view_from_clip, ndc, u_depth_convention));
+  float cos_gamma = dot(dir0, towards);
+  if (cos_gamma > 0.0 && 1.0 - cos_gamma * cos_gamma >= u_core_sin * u_core_sin) discard;
   // Without a host depth texture every pixel is open sky (w < 0).
   vec4 p = u_has_depth != 0 ? view_point_from_depth(u_view_from_clip, ndc, host_depth(), u_depth_convention,
                                                      u_log_far_m, u_log_coefficient)

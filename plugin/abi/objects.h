@@ -129,6 +129,7 @@ struct AtmoView_T {
   // get_fog_lighting and the glow pass, and the serials it was made at.
   std::optional<atmo::fog::FogFrame> fog_frame;
   uint64_t fog_frame_context_serial = 0, fog_frame_view_serial = 0;
+  std::optional<atmo::lights::LightTree> light_tree;  // over fog_frame's lights, made with it
   // The clusters of the lights for the host's surfaces (get_fog_lighting), made with the fog frame.
   std::optional<atmo::lights::LightClusters> light_clusters;
   uint64_t light_clusters_context_serial = 0, light_clusters_view_serial = 0;

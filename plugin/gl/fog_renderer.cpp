@@ -323,11 +323,13 @@ bool FogRenderer::upload_host_lights(const fog::FogFrame& frame, const lights::L
     const uint32_t i = clusters.lists[k];
     const bool own = i < frame.lights.size();
     const fog::FrameLight& l = own ? frame.lights[i] : clusters.merged[i - frame.lights.size()];
-    const float range = own ? clusters.range_m[i] : clusters.merged_range_m[i - frame.lights.size()];
+    const float range = clusters.list_range_m[k];
     const glm::vec3 p(world_from_enu * glm::dvec3(l.position_enu_m));
     const glm::vec3 axis(world_from_enu * glm::dvec3(l.axis_enu));
     const float cos_outer = l.lobes > 1.5f ? l.cos_outer + 4.0f : l.cos_outer;  // both ways: + 4
-    const float t[12] = {p.x, p.y, p.z, range, l.intensity_cd.x, l.intensity_cd.y, l.intensity_cd.z, l.cos_inner,
+    // An omnidirectional entry carries its extent (a merged light's) where a cone's cos_inner would be.
+    const float inner_or_extent = l.cos_outer < -1.5f ? l.extent_m : l.cos_inner;
+    const float t[12] = {p.x, p.y, p.z, range, l.intensity_cd.x, l.intensity_cd.y, l.intensity_cd.z, inner_or_extent,
                          axis.x, axis.y, axis.z, cos_outer};
     std::copy(t, t + 12, texels.begin() + static_cast<std::ptrdiff_t>(k * 12));
   }

@@ -403,7 +403,7 @@ TEST(FogHostInclude, SurfacesAtScaleAgainstEveryLight) {
                 fog ? "RVR 550 m fog" : "clear air", specular ? "diffuse + Phong" : "diffuse", errors.size(), peak,
                 median, p95, worst, sum_got / sum_want);
     EXPECT_GT(errors.size(), 200u);
-    if (!specular) {  // measured: fog 0.010 / 0.022 / 0.992, clear air 0.034 / 0.069 / 0.992
+    if (!specular) {  // measured: fog 0.008 / 0.028 / 0.989, clear air 0.010 / 0.034 / 0.990
       EXPECT_LT(median, 0.045);
       EXPECT_LT(p95, 0.09);
       EXPECT_NEAR(sum_got / sum_want, 1.0, 0.02);

@@ -367,12 +367,14 @@ vec3 atmo_fog_lights_surface(vec3 position_rel_eye_m, vec3 normal, vec3 kd, vec3
     vec3 to_light = t0.xyz - position_rel_eye_m;
     float d = length(to_light);
     if (d > t0.w) continue;
-    vec4 t1 = atmo_fog_light_texel(i, 1);  // intensity * colour (cd), cos_inner
+    vec4 t1 = atmo_fog_light_texel(i, 1);  // intensity * colour (cd), cos_inner (omni: the extent, m)
     vec4 t2 = atmo_fog_light_texel(i, 2);  // cone axis, cos_outer (+ 4: the cone shines both ways)
     vec3 l = to_light / max(d, 1.0e-3);
     bool both_ways = t2.w > 2.5;
     float cone = atmo_fog_cone(t2.xyz, t1.w, both_ways ? t2.w - 4.0 : t2.w, both_ways ? 2.0 : 1.0, -l);
     if (cone <= 0.0) continue;
+    // A merged light stands for lights spread about it: no nearer than its extent.
+    if (t2.w < -1.5) d = max(d, t1.w);
     float beta = atmo_fog_medium.x * atmo_fog_inside_fraction(z_point, dot(t0.xyz, atmo_fog_up), atmo_fog_medium.z);
     vec2 terms = atmo_fog_surface_terms_single(atmo_fog_surface_table, atmo_fog_surface_table_size, beta,
                                                atmo_fog_medium.y, d, beta * d, dot(normal, l), dot(mirror, l),

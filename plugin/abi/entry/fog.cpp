@@ -24,11 +24,15 @@ double glow_threshold(const AtmoContext_T* ctx, const AtmoView_T* view) {
   return fog::glow_threshold_cd_m2(ctx->lights.glow_threshold_cd_m2, exposure);
 }
 
-// The view's lights in the fog, made once per set_view / set_fog / set_lights.
+// The view's lights in the fog and their tree, made once per set_view / set_fog / set_lights.
 const fog::FogFrame& view_fog_frame(AtmoContext_T* ctx, AtmoView_T* view) {
   if (!view->fog_frame || view->fog_frame_context_serial != ctx->fog_serial ||
       view->fog_frame_view_serial != view->state_serial) {
-    view->fog_frame = fog::make_fog_frame(ctx->fog, ctx->lights, view->eye, glow_threshold(ctx, view));
+    // Both reuse the last frame's storage (65 536 lights: megabytes).
+    if (!view->fog_frame) view->fog_frame.emplace();
+    fog::make_fog_frame(ctx->fog, ctx->lights, view->eye, glow_threshold(ctx, view), &*view->fog_frame);
+    if (!view->light_tree) view->light_tree.emplace();
+    lights::build_light_tree(view->fog_frame->lights, &*view->light_tree);
     view->fog_frame_context_serial = ctx->fog_serial;
     view->fog_frame_view_serial = view->state_serial;
   }
@@ -48,7 +52,8 @@ const lights::LightClusters& view_light_clusters(AtmoContext_T* ctx, AtmoView_T*
     const lights::ClusterGrid grid =
         lights::ClusterGrid::for_view(clip_from_enu(view), view->state.viewport[2], view->state.viewport[3],
                                       lights::ClusterGrid::kSurfaceTilePx);
-    view->light_clusters = lights::cluster_lights(frame, grid, static_cast<float>(ctx->fog.optics.albedo),
+    view->light_clusters = lights::cluster_lights(frame, *view->light_tree, grid,
+                                                  static_cast<float>(ctx->fog.optics.albedo),
                                                   glow_threshold(ctx, view));
     view->light_clusters_context_serial = ctx->fog_serial;
     view->light_clusters_view_serial = view->state_serial;
@@ -244,10 +249,11 @@ AtmoResult get_fog_lighting(AtmoView view_handle, AtmoFogLighting* out) {
           for (int r = 0; r < 3; ++r) f.enu_from_world[c * 3 + r] = enu_from_world[c][r];
         ctx->services.log(ATMO_LOG_DEBUG, pass_log_prefix(ctx, view) + "light clusters: " +
                                               std::to_string(frame.lights.size()) + " lights, " +
-                                              std::to_string(clusters.pairs) + " pairs, " +
+                                              std::to_string(clusters.opened) + " tree nodes opened, " +
                                               std::to_string(clusters.lists.size()) + " listed (longest " +
-                                              std::to_string(clusters.longest_list) + "), " +
-                                              std::to_string(clusters.overflow) + " to far fields");
+                                              std::to_string(clusters.longest_list) + ", " +
+                                              std::to_string(clusters.merged.size()) + " of them nodes of " +
+                                              std::to_string(clusters.merged_lights) + " lights)");
         return ATMO_SUCCESS;
       });
 }

@@ -23,6 +23,16 @@ void FogMedium::apply(const FogOptics& o, int table_size) {
 FogFrame make_fog_frame(const FogMedium& fog, const lights::LightSet& lights, const core::EyeFrame& eye,
                         double threshold_cd_m2) {
   FogFrame f;
+  make_fog_frame(fog, lights, eye, threshold_cd_m2, &f);
+  return f;
+}
+
+void make_fog_frame(const FogMedium& fog, const lights::LightSet& lights, const core::EyeFrame& eye,
+                    double threshold_cd_m2, FogFrame* out) {
+  std::vector<FrameLight> storage = std::move(out->lights);
+  FogFrame& f = *out;
+  f = FogFrame{};
+  f.lights = std::move(storage);
   FogOptics o = fog.optics;
   if (!fog.enabled()) o.extinction_per_m = 0.0, o.multiple_scattering = false;
   const double top = std::isfinite(o.top_height_m) ? o.top_height_m - eye.eye.height_m : INFINITY;
@@ -38,6 +48,7 @@ FogFrame make_fog_frame(const FogMedium& fog, const lights::LightSet& lights, co
   lights.for_each_light([&](const glm::dvec3& ecef, const glm::dvec3& axis, const lights::Light& l) {
     const glm::dvec3 rel = enu_from_ecef * (ecef - eye.eye_ecef_m);
     FrameLight& fl = f.lights[n];
+    fl = FrameLight{};  // the storage holds last frame's lights
     fl.position_enu_m = glm::vec3(rel);
     fl.intensity_cd = glm::vec3(l.intensity_cd);
     fl.axis_enu = glm::vec3(enu_from_ecef * axis);
@@ -87,28 +98,6 @@ FogFrame make_fog_frame(const FogMedium& fog, const lights::LightSet& lights, co
     }
   f.fluence = glm::vec3(fluence);
   f.flux_towards_lights = glm::mat3(flux);
-  return f;
-}
-
-std::vector<float> surface_light_ranges(const FogMedium& fog, const FogFrame& frame,
-                                        double threshold_cd_m2) {
-  std::vector<float> range(frame.lights.size(), 0.0f);
-  const glm::vec2 size(static_cast<float>(fog.surface.width),
-                       static_cast<float>(fog.surface.height / kSurfaceLayers));
-  for (size_t i = 0; i < frame.lights.size(); ++i) {
-    const FrameLight& l = frame.lights[i];
-    const double peak = std::max({l.intensity_cd.x, l.intensity_cd.y, l.intensity_cd.z});
-    if (!(peak > 0.0)) continue;
-    // Distances 1 m .. 1000 km, 8 per octave; the range is the step past the last one above the threshold.
-    for (int k = 0; k <= 160; ++k) {
-      const float r = std::exp2(static_cast<float>(k) / 8.0f);
-      const float beta = l.beta_per_m;
-      const glm::vec2 t = twin::atmo_fog_surface_terms(fog.surface, size, beta, static_cast<float>(fog.optics.albedo),
-                                                            frame.diffusion, r, beta * r, 1.0f, 1.0f, 1.0f);
-      if (peak * t.x / M_PI >= threshold_cd_m2) range[i] = std::exp2(static_cast<float>(k + 1) / 8.0f);
-    }
-  }
-  return range;
 }
 
 double glow_threshold_cd_m2(double host_threshold_cd_m2, double exposure_scale) {

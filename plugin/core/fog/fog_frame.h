@@ -48,6 +48,9 @@ struct FrameLight {
   float beta_per_m = 0.0f;          // effective extinction on the eye-light path
   float glow_radius_rad = 0.0f;     // where the glow falls under kGlowReachFraction of the threshold (0: nowhere)
   float visible_radius_rad = 0.0f;  // ... and under the threshold itself (its core is drawn to here at most)
+  // A merged light (lights::LightClusters) stands for lights spread about its position, this much (m, RMS):
+  // its distances are floored at it, as a point between its lights would light what is near it too much.
+  float extent_m = 0.0f;
 };
 struct FogFrame {
   std::vector<FrameLight> lights;   // every light (the glow pass draws those with a radius)
@@ -64,11 +67,9 @@ struct FogFrame {
 // surfaces still need them.
 FogFrame make_fog_frame(const FogMedium& fog, const lights::LightSet& lights, const core::EyeFrame& eye,
                         double threshold_cd_m2);
-
-// Per light, the distance beyond which it lights a white Lambertian surface
-// (direct, scattered and diffusion terms, facing it) below the threshold:
-// the host include skips it there.
-std::vector<float> surface_light_ranges(const FogMedium& fog, const FogFrame& frame, double threshold_cd_m2);
+// The same into *out, reusing its storage (a view's frame, made again each frame).
+void make_fog_frame(const FogMedium& fog, const lights::LightSet& lights, const core::EyeFrame& eye,
+                    double threshold_cd_m2, FogFrame* out);
 
 // A glow is followed until it falls under this fraction of the threshold: many such glows add up.
 constexpr double kGlowReachFraction = 0.1;

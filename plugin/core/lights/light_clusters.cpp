@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
+#include <cstring>
 #include <thread>
 
 #include "core/clouds/parallel_bands.h"
@@ -17,9 +17,6 @@ constexpr double kPi = 3.14159265358979323846;
 // The largest e^T G_0 of the surface table (5.9 at T = 2 for g = 0.85; < 7 for any phase): the
 // single-scattered term's bound in the ranges.
 constexpr double kMaxSurfaceG = 7.0;
-constexpr double kRangeThresholdFraction = 1.0;
-
-double peak(const glm::vec3& v) { return std::max({v.x, v.y, v.z}); }
 
 // A cone light's sphere test (the spot light against a bounding sphere: whether any point of the sphere
 // (centre c relative to the light, radius r) lies inside the cone of half-angle `outer` about `axis`).
@@ -37,254 +34,390 @@ bool cone_reaches(const glm::dvec3& c, double r, const glm::dvec3& axis, double 
   return false;
 }
 
-// The diffusion term's aggregate over a subtree of lights (Barnes-Hut: a far subtree acts as one light at
-// its power-weighted centre).
-struct Node {
-  glm::dvec3 centre{0.0};   // power-weighted centre
-  double radius = 0.0;      // of the lights about it
-  glm::dvec3 power{0.0};    // sum of intensity x the profile's mean (the P1 term's source)
-  int first = 0, count = 0; // leaves: the lights order_[first, first + count)
-  int left = -1, right = -1;
-};
-
-class DiffusionTree {
- public:
-  DiffusionTree(const fog::FogFrame& frame) : frame_(frame) {
-    order_.resize(frame.lights.size());
-    std::iota(order_.begin(), order_.end(), 0u);
-    power_.resize(frame.lights.size());
-    for (size_t i = 0; i < frame.lights.size(); ++i) {
-      const fog::FrameLight& l = frame.lights[i];
-      power_[i] = glm::dvec3(l.intensity_cd) * static_cast<double>(l.mean_profile);
-    }
-    if (!order_.empty()) build(0, static_cast<int>(order_.size()));
-  }
-
-  // The far-field terms (A, B per channel) at point x, with the fog's diffusion vector and extinction.
-  void add_at(const glm::dvec3& x, double extinction, double top, glm::dvec3* a, glm::dmat3* b) const {
-    if (nodes_.empty()) return;
-    add(0, x, extinction, top, a, b);
-  }
-
- private:
-  int build(int first, int count) {
-    const int id = static_cast<int>(nodes_.size());
-    nodes_.emplace_back();
-    Node n;
-    n.first = first;
-    n.count = count;
-    double weight = 0.0;
-    glm::dvec3 lo(1e300), hi(-1e300);
-    for (int k = first; k < first + count; ++k) {
-      const glm::dvec3 p(frame_.lights[order_[k]].position_enu_m);
-      const double w = peak(glm::vec3(power_[order_[k]])) + 1e-30;
-      n.centre += w * p;
-      weight += w;
-      n.power += power_[order_[k]];
-      lo = glm::min(lo, p);
-      hi = glm::max(hi, p);
-    }
-    n.centre /= weight;
-    for (int k = first; k < first + count; ++k)
-      n.radius = std::max(n.radius, glm::length(glm::dvec3(frame_.lights[order_[k]].position_enu_m) - n.centre));
-    if (count > 4) {
-      const glm::dvec3 extent = hi - lo;
-      const int axis = extent.x > extent.y ? (extent.x > extent.z ? 0 : 2) : (extent.y > extent.z ? 1 : 2);
-      const int half = count / 2;
-      std::nth_element(order_.begin() + first, order_.begin() + first + half, order_.begin() + first + count,
-                       [&](uint32_t a, uint32_t b) {
-                         return frame_.lights[a].position_enu_m[axis] < frame_.lights[b].position_enu_m[axis];
-                       });
-      n.left = build(first, half);
-      n.right = build(first + half, count - half);
-    }
-    nodes_[static_cast<size_t>(id)] = n;
-    return id;
-  }
-
-  void one(const glm::dvec3& x, const glm::dvec3& light, const glm::dvec3& power, double extinction, double top,
-           glm::dvec3* a, glm::dmat3* b) const {
-    const glm::dvec3 to = light - x;
-    const double d = glm::length(to);
-    const double beta = extinction * fog::twin::atmo_fog_inside_fraction(float(x.z), float(light.z), float(top));
-    const glm::vec2 p1 = fog::twin::atmo_fog_diffusion_light(frame_.diffusion, float(d), float(beta * d), true);
-    *a += 0.25 * double(p1.x) * power;
-    if (d > 0.0) {
-      const glm::dvec3 l = to / d;
-      for (int c = 0; c < 3; ++c) (*b)[c] += 0.5 * double(p1.y) * power[c] * l;
-    }
-  }
-
-  void add(int id, const glm::dvec3& x, double extinction, double top, glm::dvec3* a, glm::dmat3* b) const {
-    const Node& n = nodes_[static_cast<size_t>(id)];
-    const double d = glm::length(n.centre - x);
-    if (n.left < 0) {
-      for (int k = n.first; k < n.first + n.count; ++k)
-        one(x, glm::dvec3(frame_.lights[order_[k]].position_enu_m), power_[order_[k]], extinction, top, a, b);
-    } else if (n.radius < 0.6 * d) {  // the subtree subtends < ~35 degrees: one source (the P1 field is smooth)
-      one(x, n.centre, n.power, extinction, top, a, b);
-    } else {
-      add(n.left, x, extinction, top, a, b);
-      add(n.right, x, extinction, top, a, b);
-    }
-  }
-
-  const fog::FogFrame& frame_;
-  std::vector<uint32_t> order_;
-  std::vector<glm::dvec3> power_;
-  std::vector<Node> nodes_;
-};
+// e^(-beta d) in float (the cuts' estimates), 1 in clear air without the call.
+double fade(float beta_per_m, double d) { return beta_per_m > 0.0f ? std::exp(-beta_per_m * static_cast<float>(d)) : 1.0; }
 
 // Threads that share a view's clusters (each froxel's work is its own: the result is the same for any count).
 const int kThreads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 4u));
 
-// A light reaching a froxel, and how much it matters there.
-struct Pair {
-  uint32_t froxel, light;
-  float importance;
-};
-
 // In a band's list, an entry naming the band's own merged light (renumbered when the bands are joined).
 constexpr uint32_t kMergedFlag = 0x80000000u;
 
-// A froxel's merged lights stay out of its list when together they bring less than this share of its
-// light (as the importances estimate it).
+// An entry of a froxel's list stays out when it brings less than this share of its light (as estimated).
 constexpr double kNegligibleShare = 0.005;
+// A node whose lights lie within this fraction of its distance from the froxel is shaded as one light; and
+// from the far field where it is also farther than kFarRadii of the froxel's radii.
+constexpr double kFinalSize = 0.2;
+constexpr double kFarRadii = 4.0;
+// ... and where the fog on the way dims it by less than this optical thickness.
+constexpr double kFarFade = 0.5;
+// The rest of the cut is merged into one light per this share of the froxel's light (up to kMergedLights).
+constexpr double kShareAGroup = 0.05;
 
-// The pairs of light i: the froxels its range reaches (its sphere's footprint in tiles and slices, each
-// froxel tested against the sphere and the cone), with its importance in each.
-void add_pairs(const fog::FogFrame& frame, const ClusterGrid& grid, const std::vector<glm::dvec3>& centre,
-               const std::vector<double>& radius, const std::vector<float>& range, int i, std::vector<Pair>* pairs) {
-  const float r = range[static_cast<size_t>(i)];
-  if (!(r > 0.0f)) return;
-  const fog::FrameLight& l = frame.lights[static_cast<size_t>(i)];
-  const glm::dvec3 p(l.position_enu_m);
-  const double dp = glm::length(p);
-  // The sphere's footprint in tiles: the whole screen when it holds the eye or reaches behind the camera.
-  int tx0 = 0, tx1 = grid.tiles_x - 1, ty0 = 0, ty1 = grid.tiles_y - 1;
-  if (dp > r * 1.001) {
-    double lo_x = 1e300, hi_x = -1e300, lo_y = 1e300, hi_y = -1e300;
-    bool behind = false;
-    for (int c = 0; c < 8 && !behind; ++c) {
-      const glm::dvec3 corner = p + double(r) * glm::dvec3(c & 1 ? 1 : -1, c & 2 ? 1 : -1, c & 4 ? 1 : -1);
-      const glm::dvec4 clip = grid.clip_from_enu * glm::dvec4(corner, 1.0);
-      if (!(clip.w > 1e-6)) {
-        behind = true;
-        break;
-      }
-      lo_x = std::min(lo_x, clip.x / clip.w);
-      hi_x = std::max(hi_x, clip.x / clip.w);
-      lo_y = std::min(lo_y, clip.y / clip.w);
-      hi_y = std::max(hi_y, clip.y / clip.w);
-    }
-    if (!behind) {
-      if (hi_x < -1.0 || lo_x > 1.0 || hi_y < -1.0 || lo_y > 1.0) return;  // off screen
-      tx0 = std::clamp(int(std::floor((lo_x + 1.0) * 0.5 * grid.tiles_x)), 0, grid.tiles_x - 1);
-      tx1 = std::clamp(int(std::floor((hi_x + 1.0) * 0.5 * grid.tiles_x)), 0, grid.tiles_x - 1);
-      ty0 = std::clamp(int(std::floor((lo_y + 1.0) * 0.5 * grid.tiles_y)), 0, grid.tiles_y - 1);
-      ty1 = std::clamp(int(std::floor((hi_y + 1.0) * 0.5 * grid.tiles_y)), 0, grid.tiles_y - 1);
+// The diffusion (P1) terms A (fluence / 4) and B (flux / 2, per channel) at x from the tree: a node that
+// subtends less than ~35 degrees acts as one light at its centre (the P1 field is smooth).
+void add_diffusion(const fog::FogFrame& frame, const LightTree& tree, const glm::dvec3& x, glm::dvec3* a,
+                   glm::dmat3* b) {
+  const auto one = [&](const glm::dvec3& light, const glm::dvec3& power) {
+    const glm::dvec3 to = light - x;
+    const double d = glm::length(to);
+    const double beta = frame.extinction_per_m *
+                        fog::twin::atmo_fog_inside_fraction(float(x.z), float(light.z), frame.top_above_eye_m);
+    const glm::vec2 p1 = fog::twin::atmo_fog_diffusion_light(frame.diffusion, float(d), float(beta * d), true);
+    *a += 0.25 * double(p1.x) * power;
+    if (d > 0.0)
+      for (int c = 0; c < 3; ++c) (*b)[c] += 0.5 * double(p1.y) * power[c] * (to / d);
+  };
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const LightTree::Node& n = tree.nodes[static_cast<size_t>(stack[--top])];
+    const glm::dvec3 c(n.centre);
+    if (n.leaf() || double(n.radius_m) < 0.6 * glm::length(c - x) || top + 2 > 128) {
+      one(c, glm::dvec3(n.power));
+    } else {
+      stack[top++] = n.right;
+      stack[top++] = n.left;
     }
   }
-  const int k0 = static_cast<int>(grid.slice_of(std::max(dp - r, 0.0)));
-  const int k1 = std::min(static_cast<int>(grid.slice_of(dp + r)), ClusterGrid::kSlices - 1);
-  const double intensity = peak(l.intensity_cd);
-  for (int k = k0; k <= k1; ++k)
-    for (int y = ty0; y <= ty1; ++y)
-      for (int x = tx0; x <= tx1; ++x) {
-        const uint32_t f = static_cast<uint32_t>(grid.index(x, y, k));
-        const glm::dvec3 to = centre[f] - p;
-        const double d = glm::length(to);
-        if (d > r + radius[f]) continue;
-        if (!cone_reaches(to, radius[f], glm::dvec3(l.axis_enu), l.cos_outer, l.lobes)) continue;
-        // Its importance: its irradiance at the froxel's centre (the cone towards it), the distance floored
-        // at a quarter of the froxel's radius (a light inside the froxel counts as near, not as infinite).
-        const double floor_d = std::max(d, std::max(0.25 * radius[f], 0.5));
-        const double cone =
-            fog::twin::atmo_fog_cone(l.axis_enu, l.cos_inner, l.cos_outer, l.lobes, glm::vec3(to / std::max(d, 1e-6)));
-        const double edge = cone > 0.0 ? cone : 0.05;  // on the cone's edge, part of the froxel is still lit
-        pairs->push_back({f, static_cast<uint32_t>(i),
-                          static_cast<float>(intensity * edge * std::exp(-double(l.beta_per_m) * d) /
-                                             (floor_d * floor_d))});
-      }
 }
 
-// One froxel's list from its pairs [begin, end) (each light once, in index order): the kNearLights most
-// important exactly, the rest merged into up to kMergedLights lights (none when they bring a negligible
-// share). Appends to *lists (merged lights as kMergedFlag | their index in *merged); returns how many
-// lights were merged.
-uint64_t froxel_list(const fog::FogFrame& frame, const std::vector<float>& range, const glm::dvec3& centre,
-                     double radius, Pair* begin, Pair* end, std::vector<uint32_t>* lists,
-                     std::vector<fog::FrameLight>* merged, std::vector<float>* merged_range) {
-  const size_t n = static_cast<size_t>(end - begin);
-  if (n > static_cast<size_t>(kNearLights)) {
-    // The most important first (ties by index: deterministic).
-    std::partial_sort(begin, begin + kNearLights, end, [](const Pair& a, const Pair& b) {
-      return a.importance != b.importance ? a.importance > b.importance : a.light < b.light;
-    });
-    std::sort(begin, begin + kNearLights, [](const Pair& a, const Pair& b) { return a.light < b.light; });
+// One froxel's cut of the tree (see the header): appends its entries to *lists (nodes as kMergedFlag | their
+// index in *merged) and their ranges to *ranges.
+struct Cut {
+  const fog::FogFrame& frame;
+  const LightTree& tree;
+  const SurfaceRange& range;
+
+  struct Entry {
+    float weight;  // what it may add at the froxel (a bound for a node, the estimate for a light)
+    int32_t node;
+  };
+  static bool lighter(const Entry& a, const Entry& b) {
+    return a.weight != b.weight ? a.weight < b.weight : a.node > b.node;  // max-heap, ties: the lower node first
   }
-  const size_t near = std::min(n, static_cast<size_t>(kNearLights));
-  for (size_t k = 0; k < near; ++k) lists->push_back(begin[k].light);
-  if (begin + near >= end) return 0;
-  double total = 0.0, rest = 0.0;
-  for (Pair* p = begin; p < end; ++p) (p < begin + near ? total : rest) += p->importance;
-  if (rest < kNegligibleShare * (total + rest)) return 0;
-  // The rest, merged: groups split along their longest axis, each one light.
-  std::vector<std::pair<Pair*, Pair*>> groups = {{begin + near, end}};
-  while (static_cast<int>(groups.size()) < kMergedLights) {
-    // Split the group with the most lights (ties: the first) at its median along its longest axis.
-    auto largest = std::max_element(groups.begin(), groups.end(), [](const auto& a, const auto& b) {
-      return a.second - a.first < b.second - b.first;
-    });
-    if (largest->second - largest->first < 2) break;
-    glm::dvec3 lo(1e300), hi(-1e300);
-    for (Pair* p = largest->first; p < largest->second; ++p) {
-      lo = glm::min(lo, glm::dvec3(frame.lights[p->light].position_enu_m));
-      hi = glm::max(hi, glm::dvec3(frame.lights[p->light].position_enu_m));
+  enum class Reach { kNone, kBelowThreshold, kReaches };
+
+  // The entry for node `id` at the froxel (centre c, radius r), and whether it reaches it: not at all (a cone
+  // that points away), only below the threshold (its range falls short: many such may still add up), or so.
+  Entry entry(int32_t id, const glm::dvec3& c, double r, Reach* reach) const {
+    const LightTree::Node& n = tree.nodes[static_cast<size_t>(id)];
+    if (n.leaf()) {
+      const fog::FrameLight& l = frame.lights[tree.order[n.first]];
+      const glm::dvec3 to = c - glm::dvec3(l.position_enu_m);
+      const double d = glm::length(to);
+      if (!cone_reaches(to, r, glm::dvec3(l.axis_enu), l.cos_outer, l.lobes)) {
+        *reach = Reach::kNone;
+        return {0.0f, id};
+      }
+      *reach = d > double(range(n.peak)) + r ? Reach::kBelowThreshold : Reach::kReaches;
+      // Its irradiance at the froxel's centre (the cone towards it), the distance floored at a quarter of the
+      // froxel's radius (a light inside the froxel counts as near, not as infinite).
+      const double floor_d = std::max(d, std::max(0.25 * r, 0.5));
+      const double cone =
+          fog::twin::atmo_fog_cone(l.axis_enu, l.cos_inner, l.cos_outer, l.lobes, glm::vec3(to / std::max(d, 1e-6)));
+      const double edge = cone > 0.0 ? cone : 0.05;  // on the cone's edge, part of the froxel is still lit
+      return {static_cast<float>(n.peak * edge * fade(l.beta_per_m, d) / (floor_d * floor_d)), id};
     }
-    const glm::dvec3 extent = hi - lo;
-    const int axis = extent.x > extent.y ? (extent.x > extent.z ? 0 : 2) : (extent.y > extent.z ? 1 : 2);
-    Pair* mid = largest->first + (largest->second - largest->first) / 2;
-    std::nth_element(largest->first, mid, largest->second, [&](const Pair& a, const Pair& b) {
-      const float pa = frame.lights[a.light].position_enu_m[axis], pb = frame.lights[b.light].position_enu_m[axis];
-      return pa != pb ? pa < pb : a.light < b.light;
-    });
-    const std::pair<Pair*, Pair*> right = {mid, largest->second};
-    largest->second = mid;
-    groups.push_back(right);
+    const double d_box = distance_to_box(glm::vec3(c), n.lo, n.hi);
+    *reach = d_box > double(range(n.peak)) + r ? Reach::kBelowThreshold : Reach::kReaches;
+    const double near = std::max(d_box - r, 0.0), floor_d = std::max(near, std::max(0.25 * r, 0.5));
+    return {static_cast<float>(n.peak * fade(n.beta_min, near) / (floor_d * floor_d)), id};
   }
-  for (const auto& [first, last] : groups) {
-    // The group's irradiance magnitude at the froxel's centre, and its intensity-weighted centre.
-    glm::dvec3 irradiance(0.0), position(0.0);
-    double weight = 0.0;
-    float reach = 0.0f, beta = 0.0f;
-    for (Pair* p = first; p < last; ++p) {
-      const fog::FrameLight& l = frame.lights[p->light];
-      const glm::dvec3 to = glm::dvec3(l.position_enu_m) - centre;
-      const double d = std::max(glm::length(to), 0.5);
-      const double cone = fog::twin::atmo_fog_cone(l.axis_enu, l.cos_inner, l.cos_outer, l.lobes, glm::vec3(-to / d));
-      const glm::dvec3 e0 = glm::dvec3(l.intensity_cd) * (cone * std::exp(-double(l.beta_per_m) * d) / (d * d));
-      irradiance += e0;
-      const double w = peak(glm::vec3(e0));
-      position += w * glm::dvec3(l.position_enu_m);
-      weight += w;
-      reach = std::max(reach, range[p->light]);
-      beta = std::max(beta, l.beta_per_m);
+
+  // Node `id`'s irradiance at c (on a surface facing it), lux per channel: `exact`, its lights' own sum; else
+  // its cones as one (node_intensity_towards: the peak channel; the colour is its lights' mean) from its
+  // centre, the distance no less than its lights' spread about it (the centre may lie between them), with
+  // the spread's second-order gain (node_spread_gain).
+  glm::dvec3 node_irradiance(int32_t id, const glm::dvec3& c, bool exact) const {
+    const LightTree::Node& n = tree.nodes[static_cast<size_t>(id)];
+    glm::dvec3 irradiance(0.0);
+    if (exact) {
+      for (uint32_t k = n.first; k < n.first + n.count; ++k) irradiance += light_irradiance(tree.order[k], c);
+      return irradiance;
     }
-    if (!(weight > 0.0)) continue;
-    position /= weight;
+    const double colour_peak = std::max({n.power.x, n.power.y, n.power.z});
+    if (!(colour_peak > 0.0)) return irradiance;
+    const glm::dvec3 to = c - glm::dvec3(n.centre);
+    const double d = std::max({glm::length(to), std::sqrt(double(n.variance_m2)), 0.5});
+    const double towards = node_intensity_towards(n, glm::vec3(to / d));
+    return glm::dvec3(n.power) *
+           (towards / colour_peak * node_spread_gain(n, d, n.beta_mean) * fade(n.beta_mean, d) / (d * d));
+  }
+
+  // Node `id` as one light of the froxel's own: at its centre, with the intensity that gives its irradiance
+  // at the froxel's centre c (node_irradiance).
+  fog::FrameLight as_light(int32_t id, const glm::dvec3& c, bool exact) const {
+    const LightTree::Node& n = tree.nodes[static_cast<size_t>(id)];
     fog::FrameLight v;
-    v.position_enu_m = glm::vec3(position);
-    v.beta_per_m = beta;
-    // The intensity that gives the group's irradiance at the centre from where the merged light stands.
-    const double d = std::max(glm::length(position - centre), 0.5);
-    v.intensity_cd = glm::vec3(irradiance * (d * d * std::exp(double(beta) * d)));
-    lists->push_back(kMergedFlag | static_cast<uint32_t>(merged->size()));
-    merged->push_back(v);
-    merged_range->push_back(reach + static_cast<float>(radius));
+    v.position_enu_m = n.centre;
+    v.beta_per_m = n.beta_mean;
+    v.extent_m = std::sqrt(n.variance_m2);
+    const double d = std::max({glm::length(glm::dvec3(n.centre) - c), double(v.extent_m), 0.5});
+    v.intensity_cd = glm::vec3(node_irradiance(id, c, exact) * (d * d * std::exp(double(n.beta_mean) * d)));
+    return v;
   }
-  return static_cast<uint64_t>(end - begin - near);
-}
+
+  // Light i's irradiance at c on a surface facing it (its cone and fog), lux per channel.
+  glm::dvec3 light_irradiance(uint32_t i, const glm::dvec3& c) const {
+    const fog::FrameLight& l = frame.lights[i];
+    const glm::dvec3 to = glm::dvec3(l.position_enu_m) - c;
+    const double d = std::max(glm::length(to), 0.5);
+    const double cone = fog::twin::atmo_fog_cone(l.axis_enu, l.cos_inner, l.cos_outer, l.lobes, glm::vec3(-to / d));
+    return glm::dvec3(l.intensity_cd) * (cone * fade(l.beta_per_m, d) / (d * d));
+  }
+
+  // What an entry of the cut gives at the froxel's centre c.
+  struct Item {
+    double estimate = 0.0;       // for the ranking: a light's entry weight, else the irradiance's peak channel
+    int32_t node = -1;           // -1: lights under the threshold, together
+    glm::dvec3 irradiance{0.0};  // lux per channel (a node's from its cones as one)
+    glm::dvec3 position{0.0};    // where it stands (a node's weighted centre)
+    double peak = 0.0, beta = 0.0, spread = 0.0;  // summed peak intensity, extinction, reach about `position`
+    double rms = 0.0;                             // its lights' RMS distance from `position` (m)
+    double second = 0.0;                          // while merging: the weighted sum of |position|^2 + rms^2
+    uint32_t count = 0;                           // lights
+    glm::dvec3 box_lo{INFINITY}, box_hi{-INFINITY};  // while merging (add_to)
+  };
+
+  Item item(const Entry& e, const glm::dvec3& c) const {
+    const LightTree::Node& n = tree.nodes[static_cast<size_t>(e.node)];
+    Item it;
+    it.node = e.node;
+    it.position = glm::dvec3(n.centre);
+    it.peak = n.peak;
+    it.beta = n.beta_mean;
+    it.spread = n.radius_m;
+    it.rms = std::sqrt(double(n.variance_m2));
+    it.count = n.count;
+    if (n.leaf()) {
+      it.irradiance = light_irradiance(tree.order[n.first], c);
+      it.estimate = e.weight;
+    } else {
+      it.irradiance = node_irradiance(e.node, c, false);
+      it.estimate = std::max({it.irradiance.x, it.irradiance.y, it.irradiance.z});
+    }
+    return it;
+  }
+
+  // Items [first, last) as one light of the froxel's own at their weighted centre, with their irradiance at
+  // the froxel's centre c; appended with its range.
+  void add_merged(Item* const* first, Item* const* last, const glm::dvec3& c, std::vector<uint32_t>* lists,
+                  std::vector<float>* ranges, std::vector<fog::FrameLight>* merged, uint64_t* merged_lights) const {
+    Item m;
+    for (Item* const* it = first; it < last; ++it) add_to(&m, **it);
+    finish(&m);
+    if (!(m.estimate > 0.0)) return;
+    fog::FrameLight v;
+    v.position_enu_m = glm::vec3(m.position);
+    v.beta_per_m = static_cast<float>(m.beta);
+    v.extent_m = static_cast<float>(m.rms);
+    const double d = std::max({glm::length(m.position - c), m.rms, 0.5});
+    v.intensity_cd = glm::vec3(m.irradiance * (d * d * std::exp(m.beta * d)));
+    lists->push_back(kMergedFlag | static_cast<uint32_t>(merged->size()));
+    ranges->push_back(range(static_cast<float>(m.peak)) + static_cast<float>(m.spread));
+    merged->push_back(v);
+    *merged_lights += m.count;
+  }
+
+  // Items as one: irradiance and counts summed, centre and extinction weighted by the irradiance (add_to each,
+  // then finish; until then `position` and `beta` hold weighted sums, `box_lo`/`box_hi` the extent).
+  static void add_to(Item* m, const Item& it) {
+    const double w = std::max({it.irradiance.x, it.irradiance.y, it.irradiance.z});
+    m->irradiance += it.irradiance;
+    m->position += w * it.position;
+    m->second += w * (glm::dot(it.position, it.position) + it.rms * it.rms);
+    m->beta += w * it.beta;
+    m->estimate += w;
+    m->peak += it.peak;
+    m->count += it.count;
+    m->box_lo = glm::min(m->box_lo, it.position - it.spread);
+    m->box_hi = glm::max(m->box_hi, it.position + it.spread);
+  }
+  static void finish(Item* m) {
+    if (!(m->estimate > 0.0)) return;
+    m->position /= m->estimate;
+    m->beta /= m->estimate;
+    m->rms = std::sqrt(std::max(m->second / m->estimate - glm::dot(m->position, m->position), 0.0));
+    m->spread = glm::length(glm::max(m->box_hi - m->position, m->position - m->box_lo));
+  }
+
+  // The froxel's list (see the header): best first, the entry that may add the most is opened (a node) or
+  // taken (a light: as every node's weight bounds its lights', no light left can add more) until
+  // kListLights - kMergedLights lights are taken or kCutOpens nodes opened (what a node opens into that falls
+  // short of the threshold alone is kept, together: many may add up); those that add the most are listed one
+  // by one, the rest of the cut merged into up to kMergedLights lights (none when they add a negligible
+  // share). Appends to *lists (merged lights and nodes as kMergedFlag | their index in
+  // *merged) and the entries' ranges to *ranges; returns how many nodes it opened.
+  uint64_t list(const glm::dvec3& c, double r, std::vector<uint32_t>* lists, std::vector<float>* ranges,
+                std::vector<fog::FrameLight>* merged, uint64_t* merged_lights,
+                glm::dvec3 far_faces[LightClusters::kFaces]) const {
+    Entry heap[kCutOpensMost + 2];  // each node opened adds at most one entry
+    int size = 0;
+    Item items[kCutOpensMost + kListLights + 2];
+    int taken = 0;
+    Item under;  // the lights under the threshold, together (add_to)
+    uint64_t opened = 0;
+    const auto push = [&](int32_t id) {
+      Reach reach;
+      const Entry e = entry(id, c, r, &reach);
+      if (reach == Reach::kReaches) {
+        heap[size++] = e;
+        std::push_heap(heap, heap + size, lighter);
+      } else if (reach == Reach::kBelowThreshold && id != 0) {
+        add_to(&under, item(e, c));
+      }
+    };
+    push(0);
+    while (size > 0) {
+      const Entry top = heap[0];
+      const LightTree::Node& n = tree.nodes[static_cast<size_t>(top.node)];
+      // A light, or a node small as seen from anywhere in the froxel (kFinalSize of the distance): as no entry
+      // left can add more, it is one of the froxel's most important, and is taken as it is.
+      if (n.leaf() || double(n.radius_m) < kFinalSize * (glm::length(glm::dvec3(n.centre) - c) - r)) {
+        std::pop_heap(heap, heap + size--, lighter);
+        items[taken++] = item(top, c);
+        if (taken == kListLights - kMergedLights) break;
+        continue;
+      }
+      if (opened == kCutOpens) break;
+      std::pop_heap(heap, heap + size--, lighter);
+      ++opened;
+      push(n.left);
+      push(n.right);
+    }
+    // A node too near to stand as one light (its lights spread over more than the froxel and more than half
+    // its distance) is opened still, up to kCutOpensMost: such nodes are few at each depth.
+    for (int k = 0; k < size;) {
+      const LightTree::Node& n = tree.nodes[static_cast<size_t>(heap[k].node)];
+      const double extent = n.radius_m;
+      if (n.leaf() || opened == kCutOpensMost || !(extent > r) ||
+          !(extent > 0.5 * glm::length(glm::dvec3(n.centre) - c))) {
+        ++k;
+        continue;
+      }
+      ++opened;
+      heap[k] = heap[--size];  // the heap's order is no longer needed
+      for (const int32_t child : {n.left, n.right}) {
+        Reach reach;
+        const Entry e = entry(child, c, r, &reach);
+        if (reach == Reach::kReaches) {
+          heap[size++] = e;
+        } else if (reach == Reach::kBelowThreshold) {
+          add_to(&under, item(e, c));
+        }
+      }
+    }
+    for (int k = 0; k < size; ++k) items[taken++] = item(heap[k], c);
+    finish(&under);
+    if (under.estimate > 0.0) items[taken++] = under;
+    // A node far from the whole froxel, small as seen from it and dimmed little by fog on the way lights it
+    // smoothly: its irradiance goes to the far field (the faces of the ambient cube: each face's irradiance
+    // from its direction; the include filters it between froxel centres), not the list. (In fog the light
+    // falls too fast between froxel centres for the filter, and the neighbour that lists the node instead
+    // would count it twice.)
+    for (int k = 0; k < taken;) {
+      const Item& it = items[k];
+      const double d = glm::length(it.position - c);
+      if (it.node < 0 || tree.nodes[static_cast<size_t>(it.node)].leaf() || !(d - it.spread > kFarRadii * r) ||
+          !(it.spread < kFinalSize * d) || !(it.beta * d < kFarFade)) {
+        ++k;
+        continue;
+      }
+      const glm::dvec3 l = (it.position - c) / d;
+      for (int axis = 0; axis < 3; ++axis)
+        far_faces[2 * axis + (l[axis] < 0.0 ? 1 : 0)] += it.irradiance * std::abs(l[axis]);
+      items[k] = items[--taken];
+    }
+    if (taken == 0) return opened;
+    // The entries in pointers (Items are large to move), the one-by-one ones first: the most important (the
+    // lights under the threshold only ever merged).
+    Item* order[kCutOpensMost + kListLights + 2];
+    double total = 0.0;
+    for (int k = 0; k < taken; ++k) {
+      order[k] = &items[k];
+      total += items[k].estimate;
+    }
+    const auto more_important = [](const Item* a, const Item* b) {
+      if ((a->node < 0) != (b->node < 0)) return b->node < 0;
+      return a->estimate != b->estimate ? a->estimate > b->estimate : a->node < b->node;
+    };
+    int one_by_one = std::min(taken, kListLights - kMergedLights);
+    std::nth_element(order, order + one_by_one - 1, order + taken, more_important);
+    std::sort(order, order + one_by_one, [](const Item* a, const Item* b) {
+      return (a->node < 0) != (b->node < 0) ? b->node < 0 : a->node < b->node;
+    });
+    while (one_by_one > 0 && order[one_by_one - 1]->node < 0) --one_by_one;
+    for (int k = 0; k < one_by_one; ++k) {
+      if (order[k]->estimate < kNegligibleShare * total) continue;  // each costs every pixel of the froxel
+      const LightTree::Node& n = tree.nodes[static_cast<size_t>(order[k]->node)];
+      if (n.leaf()) {
+        lists->push_back(tree.order[n.first]);
+        ranges->push_back(range(n.peak));
+      } else {
+        lists->push_back(kMergedFlag | static_cast<uint32_t>(merged->size()));
+        ranges->push_back(range(n.peak) + n.radius_m);
+        merged->push_back(as_light(order[k]->node, c, n.count <= kExactNodeLights));
+        *merged_lights += n.count;
+      }
+    }
+    double rest = 0.0;
+    for (int k = one_by_one; k < taken; ++k) rest += order[k]->estimate;
+    if (one_by_one == taken || rest < kNegligibleShare * total) return opened;
+    // The rest, merged: the group whose light is most spread as seen from the centre (its share times its
+    // extent over its distance) is split along its longest axis where its light is halved.
+    struct Group {
+      Item **first, **last;
+      double spread;
+    };
+    const auto group = [&](Item** first, Item** last) {
+      glm::dvec3 lo(INFINITY), hi(-INFINITY), centre(0.0);
+      double light = 0.0;
+      for (Item** it = first; it < last; ++it) {
+        lo = glm::min(lo, (*it)->position);
+        hi = glm::max(hi, (*it)->position);
+        centre += (*it)->estimate * (*it)->position;
+        light += (*it)->estimate;
+      }
+      const double d = light > 0.0 ? std::max(glm::length(centre / light - c), 0.5) : 1.0;
+      return Group{first, last, last - first < 2 ? 0.0 : light * glm::length(hi - lo) / d};
+    };
+    Group groups[kMergedLights] = {group(order + one_by_one, order + taken)};
+    int group_count = 1;
+    // As many groups as the rest's share asks for: one per kShareAGroup of the froxel's light.
+    const int wanted = std::clamp(static_cast<int>(std::ceil(rest / (kShareAGroup * total))), 1, kMergedLights);
+    while (group_count < wanted) {
+      Group* widest = std::max_element(groups, groups + group_count,
+                                       [](const Group& a, const Group& b) { return a.spread < b.spread; });
+      if (!(widest->spread > 0.0)) break;
+      glm::dvec3 lo(INFINITY), hi(-INFINITY);
+      double light = 0.0;
+      for (Item** it = widest->first; it < widest->last; ++it) {
+        lo = glm::min(lo, (*it)->position);
+        hi = glm::max(hi, (*it)->position);
+        light += (*it)->estimate;
+      }
+      const glm::dvec3 extent = hi - lo;
+      const int axis = extent.x > extent.y ? (extent.x > extent.z ? 0 : 2) : (extent.y > extent.z ? 1 : 2);
+      std::sort(widest->first, widest->last, [&](const Item* a, const Item* b) {
+        return a->position[axis] != b->position[axis] ? a->position[axis] < b->position[axis] : a->node < b->node;
+      });
+      Item** mid = widest->first + 1;
+      for (double below = (*widest->first)->estimate;
+           mid < widest->last - 1 && below + (*mid)->estimate <= 0.5 * light; ++mid)
+        below += (*mid)->estimate;
+      Item** const first = widest->first;
+      Item** const last = widest->last;
+      *widest = group(first, mid);
+      groups[group_count++] = group(mid, last);
+    }
+    for (int g = 0; g < group_count; ++g)
+      add_merged(groups[g].first, groups[g].last, c, lists, ranges, merged, merged_lights);
+    return opened;
+  }
+
+};
 
 // The lights' diffusion in fog, sampled at the corners of blocks of kBlock x kBlock tiles x 2 slices (it
 // reaches kilometres and varies over hundreds of metres, 1 / mu), interpolated to the froxels' centres and
@@ -293,12 +426,11 @@ class Diffusion {
  public:
   static constexpr int kBlock = 8;
   template <typename Ray>
-  Diffusion(const fog::FogFrame& frame, const ClusterGrid& grid, const Ray& ray)
+  Diffusion(const fog::FogFrame& frame, const LightTree& tree, const ClusterGrid& grid, const Ray& ray)
       : nx_((grid.tiles_x + kBlock - 1) / kBlock + 1),
         ny_((grid.tiles_y + kBlock - 1) / kBlock + 1),
         nk_(ClusterGrid::kSlices / 2 + 1) {
-    if (!(frame.diffusion.w > 0.0f) || frame.lights.empty()) return;
-    const DiffusionTree tree(frame);
+    if (!(frame.diffusion.w > 0.0f) || tree.empty()) return;
     a_.assign(static_cast<size_t>(nx_) * ny_ * nk_, glm::dvec3(0.0));
     b_.assign(a_.size(), glm::dmat3(0.0));
     clouds::for_bands(nk_, kThreads, [&](int k_begin, int k_end) {
@@ -308,8 +440,7 @@ class Diffusion {
             const double ndc_x = std::min(2.0 * x * kBlock / grid.tiles_x - 1.0, 1.0);
             const double ndc_y = std::min(2.0 * y * kBlock / grid.tiles_y - 1.0, 1.0);
             const size_t at = (static_cast<size_t>(k) * ny_ + y) * nx_ + x;
-            tree.add_at(ray(ndc_x, ndc_y) * grid.slice_distance(2.0 * k), frame.extinction_per_m,
-                        frame.top_above_eye_m, &a_[at], &b_[at]);
+            add_diffusion(frame, tree, ray(ndc_x, ndc_y) * grid.slice_distance(2.0 * k), &a_[at], &b_[at]);
           }
     });
   }
@@ -364,41 +495,63 @@ double ClusterGrid::slice_of(double distance_m) const {
   return std::clamp(k, 0.0, double(kSlices));
 }
 
-std::vector<float> surface_ranges(const fog::FogFrame& frame, float albedo, double threshold_cd_m2) {
-  std::vector<float> range(frame.lights.size(), 0.0f);
-  // A white Lambertian surface facing the light: L = E / pi; E <= I (e^-bd / d^2 + albedo b e^-bd G / (2 pi d)).
-  const double e_min = kPi * threshold_cd_m2;
-  for (size_t i = 0; i < frame.lights.size(); ++i) {
-    const fog::FrameLight& l = frame.lights[i];
-    const double intensity = peak(l.intensity_cd), beta = l.beta_per_m;
-    if (!(intensity > 0.0) || !(e_min > 0.0)) continue;
-    const auto e = [&](double d) {
-      return intensity * std::exp(-beta * d) * (1.0 / (d * d) + albedo * beta * kMaxSurfaceG / (2.0 * kPi * d));
-    };
-    // e falls with d: bisection in log d between 0.01 m and 1000 km.
-    double lo = std::log(0.01), hi = std::log(1e6);
-    if (e(std::exp(hi)) >= e_min) {
-      range[i] = 1e6f;
-      continue;
-    }
-    if (e(std::exp(lo)) < e_min) continue;
-    for (int k = 0; k < 30; ++k) {
-      const double mid = 0.5 * (lo + hi);
-      (e(std::exp(mid)) >= e_min ? lo : hi) = mid;
-    }
-    range[i] = static_cast<float>(std::exp(hi));
+SurfaceRange::SurfaceRange(const fog::FogFrame& frame, const LightTree& tree, float albedo,
+                           double threshold_cd_m2) {
+  if (tree.empty() || !(threshold_cd_m2 > 0.0)) return;
+  // A white Lambertian surface facing the light: L = E / pi; E <= I (e^-bd / d^2 + albedo b e^-bd G / (2 pi d)),
+  // with b the lights' smallest extinction in the attenuation and the fog's in the scattering: a bound for all.
+  e_min_ = kPi * threshold_cd_m2;
+  beta_lo_ = tree.nodes[0].beta_min;
+  scattering_ = albedo * frame.extinction_per_m * kMaxSurfaceG / (2.0 * kPi);
+  // From the dimmest light to the sum of all (a node's bound), per bucket of float bit patterns (16 an octave:
+  // the patterns of positive floats are in the order of their values), each at its bucket's top.
+  if (!(tree.dimmest_peak > 0.0f)) return;
+  first_bucket_ = bucket(tree.dimmest_peak);
+  const uint32_t last = bucket(tree.nodes[0].peak);
+  range_m_.resize(last - first_bucket_ + 1);
+  for (uint32_t k = 0; k < range_m_.size(); ++k) {
+    const uint32_t top_bits = (first_bucket_ + k + 1) << kBucketShift;
+    float top;
+    std::memcpy(&top, &top_bits, sizeof(top));
+    range_m_[k] = exact(top);
   }
-  return range;
 }
 
-LightClusters cluster_lights(const fog::FogFrame& frame, const ClusterGrid& grid, float fog_albedo,
-                             double threshold_cd_m2) {
+uint32_t SurfaceRange::bucket(float intensity_cd) {
+  uint32_t bits;
+  std::memcpy(&bits, &intensity_cd, sizeof(bits));
+  return bits >> kBucketShift;
+}
+
+float SurfaceRange::exact(double intensity_cd) const {
+  if (!(intensity_cd > 0.0) || !(e_min_ > 0.0)) return 0.0f;
+  const auto e = [&](double d) { return intensity_cd * std::exp(-beta_lo_ * d) * (1.0 / (d * d) + scattering_ / d); };
+  // e falls with d: bisection in log d between 0.01 m and 1000 km.
+  double lo = std::log(0.01), hi = std::log(1e6);
+  if (e(std::exp(hi)) >= e_min_) return 1e6f;
+  if (e(std::exp(lo)) < e_min_) return 0.0f;
+  for (int i = 0; i < 30; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (e(std::exp(mid)) >= e_min_ ? lo : hi) = mid;
+  }
+  return static_cast<float>(std::exp(hi));
+}
+
+float SurfaceRange::operator()(float intensity_cd) const {
+  if (!(intensity_cd > 0.0f) || range_m_.empty()) return 0.0f;
+  // Its bucket's top (the range grows with the intensity); past the table, the bisection itself.
+  const uint32_t b = bucket(intensity_cd);
+  if (b < first_bucket_) return range_m_.front();
+  if (b - first_bucket_ >= range_m_.size()) return exact(intensity_cd);
+  return range_m_[b - first_bucket_];
+}
+
+LightClusters cluster_lights(const fog::FogFrame& frame, const LightTree& tree, const ClusterGrid& grid,
+                             float fog_albedo, double threshold_cd_m2) {
   LightClusters out;
   out.grid = grid;
   const int froxels = grid.froxels();
-  // Ranges at a tenth of the threshold: a light under the threshold alone still counts in a merged light,
-  // where many of them add up (a town seen from its edge).
-  out.range_m = surface_ranges(frame, fog_albedo, kRangeThresholdFraction * threshold_cd_m2);
+  const SurfaceRange range(frame, tree, fog_albedo, threshold_cd_m2);
   const glm::dmat4 enu_from_clip = glm::inverse(grid.clip_from_enu);
   // Each froxel's centre (ENU relative to the eye) and bounding radius.
   std::vector<glm::dvec3> centre(static_cast<size_t>(froxels));
@@ -427,77 +580,62 @@ LightClusters cluster_lights(const fog::FogFrame& frame, const ClusterGrid& grid
       }
     }
 
-  // Every (light, froxel) pair where the light reaches the froxel, with the light's bound there; the lights
-  // in bands on up to kThreads threads, the bands' pairs joined in order (the same for any thread count).
-  const int light_count = static_cast<int>(frame.lights.size());
-  std::vector<std::vector<Pair>> band_pairs(static_cast<size_t>(clouds::band_count(light_count, kThreads)));
-  clouds::for_numbered_bands(light_count, kThreads, [&](int b, int begin, int end) {
-    for (int i = begin; i < end; ++i)
-      add_pairs(frame, grid, centre, radius, out.range_m, i, &band_pairs[static_cast<size_t>(b)]);
-  });
-  std::vector<uint32_t> start(static_cast<size_t>(froxels) + 1, 0);
-  for (const std::vector<Pair>& pairs : band_pairs)
-    for (const Pair& p : pairs) ++start[p.froxel + 1];
-  for (int f = 0; f < froxels; ++f) start[f + 1] += start[f];
-  std::vector<Pair> grouped(start[static_cast<size_t>(froxels)]);
-  {
-    // Grouped by froxel, each froxel's lights in index order (counting sort, stable).
-    std::vector<uint32_t> at(start.begin(), start.end() - 1);
-    for (const std::vector<Pair>& pairs : band_pairs)
-      for (const Pair& p : pairs) grouped[at[p.froxel]++] = p;
-  }
-  band_pairs.clear();
-  out.pairs = grouped.size();
-
   // The lights' diffusion in fog reaches kilometres and varies over hundreds of metres (1 / mu): sampled
   // at the corners of blocks of kDiffusionBlock x kDiffusionBlock tiles x 2 slices and interpolated to the
   // froxels' centres.
-  const Diffusion diffusion(frame, grid, ray);
+  const Diffusion diffusion(frame, tree, grid, ray);
 
   // Each froxel's list and far field, in bands of froxels; a band's lists and merged lights are joined in
   // froxel order.
   struct Band {
     std::vector<uint32_t> lists;  // merged lights as kMergedFlag | their index in `merged`
+    std::vector<float> ranges;
     std::vector<fog::FrameLight> merged;
-    std::vector<float> merged_range_m;
-    uint64_t overflow = 0;
+    uint64_t opened = 0, merged_lights = 0;
   };
-  const int band_total = clouds::band_count(froxels, kThreads);
+  // Each band takes every band_total-th line of tiles (a row at one slice): near slices hold few lights and
+  // far ones many, so contiguous bands would leave threads idle.
+  const int lines = grid.tiles_y * ClusterGrid::kSlices;
+  const int band_total = clouds::band_count(lines, kThreads);
   std::vector<Band> bands(static_cast<size_t>(band_total));
   out.offset.assign(static_cast<size_t>(froxels), 0);
   out.count.assign(static_cast<size_t>(froxels), 0);
   for (std::vector<glm::vec3>& face : out.far) face.assign(static_cast<size_t>(froxels), glm::vec3(0.0f));
-  clouds::for_numbered_bands(froxels, kThreads, [&](int b, int begin, int end) {
+  const Cut cut{frame, tree, range};
+  const auto each_froxel_of = [&](int b, auto&& fn) {
+    for (int line = b; line < lines; line += band_total)
+      for (int f = line * grid.tiles_x; f < (line + 1) * grid.tiles_x; ++f) fn(static_cast<size_t>(f));
+  };
+  clouds::for_numbered_bands(band_total, band_total, [&](int b, int, int) {
     Band& band = bands[static_cast<size_t>(b)];
-    for (int f = begin; f < end; ++f) {
+    each_froxel_of(b, [&](size_t f) {
       const size_t first = band.lists.size();
-      band.overflow += froxel_list(frame, out.range_m, centre[static_cast<size_t>(f)], radius[static_cast<size_t>(f)],
-                                   grouped.data() + start[static_cast<size_t>(f)],
-                                   grouped.data() + start[static_cast<size_t>(f) + 1], &band.lists, &band.merged,
-                                   &band.merged_range_m);
-      out.offset[static_cast<size_t>(f)] = static_cast<uint32_t>(first);  // band-relative until joined
-      out.count[static_cast<size_t>(f)] = static_cast<uint32_t>(band.lists.size() - first);
       glm::dvec3 faces[LightClusters::kFaces] = {};
-      diffusion.add_faces(f % grid.tiles_x, (f / grid.tiles_x) % grid.tiles_y, f / (grid.tiles_x * grid.tiles_y),
+      if (!tree.empty())
+        band.opened += cut.list(centre[f], radius[f], &band.lists, &band.ranges, &band.merged, &band.merged_lights,
+                                faces);
+      out.offset[f] = static_cast<uint32_t>(first);  // band-relative until joined
+      out.count[f] = static_cast<uint32_t>(band.lists.size() - first);
+      const int i = static_cast<int>(f);
+      diffusion.add_faces(i % grid.tiles_x, (i / grid.tiles_x) % grid.tiles_y, i / (grid.tiles_x * grid.tiles_y),
                           faces);
-      for (int face = 0; face < LightClusters::kFaces; ++face)
-        out.far[face][static_cast<size_t>(f)] = glm::vec3(faces[face]);
-    }
+      for (int face = 0; face < LightClusters::kFaces; ++face) out.far[face][f] = glm::vec3(faces[face]);
+    });
   });
-  for (int b = 0, f = 0; b < band_total; ++b) {
+  for (int b = 0; b < band_total; ++b) {
     Band& band = bands[static_cast<size_t>(b)];
     const uint32_t list_base = static_cast<uint32_t>(out.lists.size());
     const uint32_t merged_base = static_cast<uint32_t>(frame.lights.size() + out.merged.size());
     for (uint32_t entry : band.lists)
       out.lists.push_back(entry & kMergedFlag ? merged_base + (entry & ~kMergedFlag) : entry);
+    out.list_range_m.insert(out.list_range_m.end(), band.ranges.begin(), band.ranges.end());
     out.merged.insert(out.merged.end(), band.merged.begin(), band.merged.end());
-    out.merged_range_m.insert(out.merged_range_m.end(), band.merged_range_m.begin(), band.merged_range_m.end());
-    out.overflow += band.overflow;
-    // The band's froxels: [b * froxels / bands, (b + 1) * froxels / bands) (for_numbered_bands' split).
-    for (const int end = (b + 1) * froxels / band_total; f < end; ++f) {
-      out.offset[static_cast<size_t>(f)] += list_base;
-      out.longest_list = std::max(out.longest_list, out.count[static_cast<size_t>(f)]);
-    }
+    out.opened += band.opened;
+    out.merged_lights += band.merged_lights;
+    each_froxel_of(b, [&](size_t f) {
+      out.offset[f] += list_base;
+      out.longest_list = std::max(out.longest_list, out.count[f]);
+    });
   }
   return out;
 }
