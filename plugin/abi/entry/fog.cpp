@@ -85,7 +85,7 @@ AtmoResult fog_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& sce
   in.ambient_cd_m2 = glm::vec3(fog::ambient_radiance_cd_m2(ctx->fog.optics, sky, scene, ctx->atmosphere.ground_albedo));
   const double tan_half = 1.0 / std::max(std::abs(view->state.clip_from_view[5]), 1e-12);
   in.min_sin = static_cast<float>(fog::glow_min_sin(tan_half, view->state.viewport[3]));
-  const lights::GlowTiles glows = lights::bin_glows(frame, ctx->fog.airlight, clip_from_enu(view),
+  const lights::GlowTiles glows = lights::bin_glows(frame, *view->light_tree, ctx->fog.airlight, clip_from_enu(view),
                                                     view->state.viewport[2], view->state.viewport[3], in.min_sin);
   in.glows = &glows;
   std::string error;
@@ -98,7 +98,8 @@ AtmoResult fog_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& sce
                                         std::to_string(static_cast<long long>(st.covered_pixels)) + " pixels, " +
                                         std::to_string(glows.lists.size()) + " tile glows (" +
                                         std::to_string(glows.merged.size()) + " merged, longest list " +
-                                        std::to_string(glows.longest_list) + ")");
+                                        std::to_string(glows.longest_list) + "; " + std::to_string(glows.pairs) +
+                                        " tree entries weighed, " + std::to_string(glows.overflow) + " merged)");
   return ATMO_SUCCESS;
 }
 

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <thread>
 
+#include "core/clouds/parallel_bands.h"
 #include "core/fog/fog_twin.h"
 
 namespace atmo::lights {
@@ -10,6 +12,32 @@ namespace atmo::lights {
 namespace {
 
 double peak(const glm::vec3& v) { return std::max({v.x, v.y, v.z}); }
+
+// Threads that share a view's tiles (each tile's cut is its own: the result is the same for any count).
+const int kThreads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 4u));
+
+// A node's glow along a ray (peak channel, per unit albedo): its lights as one at its centre, the
+// omnidirectional ones' airlight and the cone lights' as one cone on their mean axis with their mean
+// cosines, the more so the more their axes agree (else their mean over the sphere: node_intensity_towards).
+double node_glow(const LightTree::Node& n, const fog::FogTable& airlight, const glm::vec3& ray, float min_sin) {
+  const float size = static_cast<float>(airlight.width);
+  const float d = std::max(glm::length(n.centre), 1e-3f);
+  const double omni = fog::twin::atmo_fog_airlight(airlight, size, n.beta_mean, d, glm::dot(ray, n.centre) / d,
+                                                   fog::twin::ATMO_FOG_FAR, min_sin);
+  if (!(n.cone > 0.0f)) return n.omni * omni;
+  const float length = glm::length(n.axis_sum);
+  const double agree = std::min(length / n.cone, 1.0f);
+  const glm::vec3 axis = length > 0.0f ? n.axis_sum / length : glm::vec3(0.0f, 0.0f, 1.0f);
+  const float ci = n.cos_inner_sum / n.cone, co = n.cos_outer_sum / n.cone, two_way = n.two_way / n.cone;
+  double as_one_cone = 0.0;
+  for (const float lobes : {1.0f, 2.0f}) {
+    const float share = lobes > 1.5f ? two_way : 1.0f - two_way;
+    if (share > 0.0f)
+      as_one_cone += share * fog::twin::atmo_fog_glow(airlight, size, n.beta_mean, n.centre, ray, axis, ci, co, lobes,
+                                                      fog::twin::ATMO_FOG_FAR, min_sin);
+  }
+  return n.omni * omni + n.cone * (agree * as_one_cone + (1.0 - agree) * n.mean_sum / n.cone * omni);
+}
 
 }  // namespace
 
@@ -33,8 +61,8 @@ glm::vec4 glow_rectangle(const glm::dmat4& clip_from_enu, const glm::dvec3& towa
   return glm::vec4(std::max(lo[0], -1.0), std::max(lo[1], -1.0), std::min(hi[0], 1.0), std::min(hi[1], 1.0));
 }
 
-GlowTiles bin_glows(const fog::FogFrame& frame, const fog::FogTable& airlight, const glm::dmat4& clip_from_enu,
-                    int viewport_width, int viewport_height, double min_sin) {
+GlowTiles bin_glows(const fog::FogFrame& frame, const LightTree& tree, const fog::FogTable& airlight,
+                    const glm::dmat4& clip_from_enu, int viewport_width, int viewport_height, double min_sin) {
   GlowTiles out;
   out.grid = ClusterGrid::for_view(clip_from_enu, viewport_width, viewport_height, ClusterGrid::kGlowTilePx);
   const ClusterGrid& g = out.grid;
@@ -63,12 +91,9 @@ GlowTiles bin_glows(const fog::FogFrame& frame, const fog::FogTable& airlight, c
       half[static_cast<size_t>(y * g.tiles_x + x)] = spread;
     }
 
-  struct Pair {
-    uint32_t tile, light;
-    float importance;
-  };
-  std::vector<Pair> pairs;
-  std::vector<double> weight(frame.lights.size(), 0.0);  // the far glow's weight I cone e^(-beta D) / D
+  // Each light: its core (drawn per light, at full resolution, where it shows above the threshold itself) and
+  // its far glow's weight I cone e^(-beta D) / D (0: its smooth part is under the threshold everywhere).
+  std::vector<double> weight(frame.lights.size(), 0.0);
   for (size_t i = 0; i < frame.lights.size(); ++i) {
     const fog::FrameLight& l = frame.lights[i];
     if (!(l.glow_radius_rad > min_sin)) continue;
@@ -76,107 +101,169 @@ GlowTiles bin_glows(const fog::FogFrame& frame, const fog::FogTable& airlight, c
     const double d = glm::length(p);
     if (!(d > 0.0)) continue;
     const glm::dvec3 towards = p / d;
-    const glm::vec4 r = glow_rectangle(clip_from_enu, towards, l.glow_radius_rad);
-    if (r.x >= r.z || r.y >= r.w) continue;  // off screen
-    // The core where it shows (above the threshold itself: it is drawn per light, at full resolution).
     if (l.visible_radius_rad > min_sin) {
-      out.cores.push_back(static_cast<uint32_t>(i));
-      out.core_radius_rad.push_back(static_cast<float>(std::min(double(l.visible_radius_rad), core_rad)));
+      const double radius = std::min(double(l.visible_radius_rad), core_rad);
+      const glm::vec4 r = glow_rectangle(clip_from_enu, towards, radius);
+      if (r.x < r.z && r.y < r.w) {  // on screen
+        out.cores.push_back(static_cast<uint32_t>(i));
+        out.core_radius_rad.push_back(static_cast<float>(radius));
+      }
     }
-    if (!(l.glow_radius_rad > core_rad)) continue;  // the smooth part is under the threshold everywhere
+    if (!(l.glow_radius_rad > core_rad)) continue;
     const double cone = fog::twin::atmo_fog_cone(l.axis_enu, l.cos_inner, l.cos_outer, l.lobes, glm::vec3(-towards));
     weight[i] = peak(l.intensity_cd) * std::max(cone, 0.05) * std::exp(-double(l.beta_per_m) * d) / d;
-    const int tx0 = std::clamp(int(std::floor((r.x + 1.0) * 0.5 * g.tiles_x)), 0, g.tiles_x - 1);
-    const int tx1 = std::clamp(int(std::floor((r.z + 1.0) * 0.5 * g.tiles_x)), 0, g.tiles_x - 1);
-    const int ty0 = std::clamp(int(std::floor((r.y + 1.0) * 0.5 * g.tiles_y)), 0, g.tiles_y - 1);
-    const int ty1 = std::clamp(int(std::floor((r.w + 1.0) * 0.5 * g.tiles_y)), 0, g.tiles_y - 1);
-    for (int y = ty0; y <= ty1; ++y)
-      for (int x = tx0; x <= tx1; ++x) {
-        const size_t t = static_cast<size_t>(y * g.tiles_x + x);
-        const double angle = std::acos(std::clamp(glm::dot(centre[t], towards), -1.0, 1.0));
-        const double gamma = std::max(angle - half[t], core_rad);
-        if (gamma > l.glow_radius_rad) continue;
-        // The glow's bound falls as 1 / sin gamma near the light.
-        pairs.push_back({static_cast<uint32_t>(t), static_cast<uint32_t>(i),
-                         static_cast<float>(weight[i] / std::sin(std::min(gamma, 0.5 * M_PI)))});
-      }
   }
-  out.pairs = pairs.size();
-
-  std::vector<uint32_t> start(static_cast<size_t>(tiles) + 1, 0);
-  for (const Pair& p : pairs) ++start[p.tile + 1];
-  for (int t = 0; t < tiles; ++t) start[t + 1] += start[t];
-  std::vector<Pair> grouped(pairs.size());
-  {
-    std::vector<uint32_t> at(start.begin(), start.end() - 1);
-    for (const Pair& p : pairs) grouped[at[p.tile]++] = p;
+  if (tree.empty()) {
+    out.offset.assign(static_cast<size_t>(tiles), 0);
+    out.count.assign(static_cast<size_t>(tiles), 0);
+    return out;
   }
-  out.offset.assign(static_cast<size_t>(tiles), 0);
-  out.count.assign(static_cast<size_t>(tiles), 0);
-  for (int t = 0; t < tiles; ++t) {
-    Pair* begin = grouped.data() + start[t];
-    Pair* end = grouped.data() + start[t + 1];
-    const size_t n = static_cast<size_t>(end - begin);
-    if (n > static_cast<size_t>(kExactGlows)) {
-      std::partial_sort(begin, begin + kExactGlows, end, [](const Pair& a, const Pair& b) {
-        return a.importance != b.importance ? a.importance > b.importance : a.light < b.light;
-      });
-      std::sort(begin, begin + kExactGlows, [](const Pair& a, const Pair& b) { return a.light < b.light; });
+  // Per node of the tree: how far from its lights' directions a glow of its reaches (the largest glow radius
+  // of its lights whose smooth part shows; < 0: none), and its angular radius seen from the eye. Children
+  // follow their parent in `nodes`, so one pass from the end fills the parents.
+  const size_t node_count = tree.nodes.size();
+  std::vector<float> reach(node_count, -1.0f), angular(node_count, 0.0f);
+  for (size_t k = node_count; k-- > 0;) {
+    const LightTree::Node& n = tree.nodes[k];
+    if (n.leaf()) {
+      const uint32_t i = tree.order[n.first];
+      reach[k] = weight[i] > 0.0 ? frame.lights[i].glow_radius_rad : -1.0f;
+    } else {
+      reach[k] = std::max(reach[static_cast<size_t>(n.left)], reach[static_cast<size_t>(n.right)]);
     }
-    const size_t exact = std::min(n, static_cast<size_t>(kExactGlows));
-    out.offset[t] = static_cast<uint32_t>(out.lists.size());
-    for (size_t k = 0; k < exact; ++k) out.lists.push_back(begin[k].light);
-    out.count[t] = static_cast<uint32_t>(exact);
-    if (begin + exact < end) {
-      out.overflow += static_cast<uint64_t>(end - begin - exact);
-      std::vector<std::pair<Pair*, Pair*>> groups = {{begin + exact, end}};
+    const double d = glm::length(glm::dvec3(n.centre));
+    angular[k] = d > double(n.radius_m) ? static_cast<float>(std::asin(double(n.radius_m) / d)) : float(M_PI);
+  }
+
+  // Each tile's cut of the tree (lightcuts): best first, the entry whose glow may be largest on the tile is
+  // opened (a node) or taken (a light), until kExactGlows lights are taken or kGlowOpens nodes opened; the
+  // rest of the cut is merged.
+  struct Entry {
+    float importance;  // a bound on its glow over the tile (a light's: its estimate)
+    int32_t node;
+  };
+  const auto lighter = [](const Entry& a, const Entry& b) {
+    return a.importance != b.importance ? a.importance < b.importance : a.node > b.node;
+  };
+  struct TileOut {
+    std::vector<uint32_t> exact;
+    std::vector<fog::FrameLight> merged;
+    uint64_t visited = 0, rest = 0;
+  };
+  std::vector<TileOut> per_tile(static_cast<size_t>(tiles));
+  const float size = static_cast<float>(airlight.width);
+  clouds::for_bands(tiles, kThreads, [&](int begin, int end) {
+    std::vector<Entry> heap;
+    std::vector<Entry> rest;
+    for (int t = begin; t < end; ++t) {
+      TileOut& o = per_tile[static_cast<size_t>(t)];
+      const glm::dvec3& c = centre[static_cast<size_t>(t)];
+      const double h = half[static_cast<size_t>(t)];
+      // Node k's entry, or none where no glow of its reaches the tile.
+      const auto entry = [&](int32_t k, Entry* e) {
+        const LightTree::Node& n = tree.nodes[static_cast<size_t>(k)];
+        if (!(reach[static_cast<size_t>(k)] > 0.0f)) return false;
+        ++o.visited;
+        if (n.leaf()) {
+          const uint32_t i = tree.order[n.first];
+          const glm::dvec3 p(frame.lights[i].position_enu_m);
+          const double angle = std::acos(std::clamp(glm::dot(c, glm::normalize(p)), -1.0, 1.0));
+          const double gamma = std::max(angle - h, core_rad);
+          if (gamma > frame.lights[i].glow_radius_rad) return false;
+          // The glow's bound falls as 1 / sin gamma near the light.
+          *e = {static_cast<float>(weight[i] / std::sin(std::min(gamma, 0.5 * M_PI))), k};
+          return true;
+        }
+        const glm::dvec3 p(n.centre);
+        const double d = glm::length(p);
+        const double angle = d > 0.0 ? std::acos(std::clamp(glm::dot(c, p / d), -1.0, 1.0)) : 0.0;
+        const double gamma = std::max(angle - double(angular[static_cast<size_t>(k)]) - h, core_rad);
+        if (gamma > reach[static_cast<size_t>(k)]) return false;
+        const double near = std::max(d - double(n.radius_m), 1e-3);
+        *e = {static_cast<float>(double(n.peak) * std::exp(-double(n.beta_min) * near) / near /
+                                 std::sin(std::min(gamma, 0.5 * M_PI))),
+              k};
+        return true;
+      };
+      heap.clear();
+      rest.clear();
+      Entry e;
+      if (entry(0, &e)) heap.push_back(e);
+      int opened = 0;
+      while (!heap.empty() && o.exact.size() < static_cast<size_t>(kExactGlows)) {
+        const Entry top = heap.front();
+        const LightTree::Node& n = tree.nodes[static_cast<size_t>(top.node)];
+        if (!n.leaf() && opened == kGlowOpens) break;
+        std::pop_heap(heap.begin(), heap.end(), lighter);
+        heap.pop_back();
+        if (n.leaf()) {
+          o.exact.push_back(tree.order[n.first]);
+          continue;
+        }
+        ++opened;
+        for (const int32_t child : {n.left, n.right})
+          if (entry(child, &e)) {
+            heap.push_back(e);
+            std::push_heap(heap.begin(), heap.end(), lighter);
+          }
+      }
+      std::sort(o.exact.begin(), o.exact.end());
+      o.rest = heap.size();
+      if (heap.empty()) continue;
+      // The rest of the cut, merged: split along the largest extent of the direction (radians) or of the log
+      // distance (half weight: e^(-beta D) D^-1 varies slowly in it) into up to kMergedGlows groups.
+      const auto coordinate = [&](const Entry& x, int axis) {
+        const glm::vec3 p = tree.nodes[static_cast<size_t>(x.node)].centre;
+        const float d = std::max(glm::length(p), 1e-3f);
+        return axis < 3 ? p[axis] / d : 0.5f * std::log(d);
+      };
+      std::vector<std::pair<Entry*, Entry*>> groups = {{heap.data(), heap.data() + heap.size()}};
       while (static_cast<int>(groups.size()) < kMergedGlows) {
-        auto largest = std::max_element(groups.begin(), groups.end(), [](const auto& a, const auto& b) {
-          return a.second - a.first < b.second - b.first;
+        auto largest = std::max_element(groups.begin(), groups.end(), [](const auto& x, const auto& y) {
+          return x.second - x.first < y.second - y.first;
         });
         if (largest->second - largest->first < 2) break;
-        // A glow's shape follows the light's direction and optical distance: split along the largest extent of
-        // the direction (radians) or of the log distance (half weight: e^(-beta D) D^-1 varies slowly in it).
-        const auto coordinate = [&](uint32_t light, int axis) {
-          const glm::vec3 p = frame.lights[light].position_enu_m;
-          const float d = std::max(glm::length(p), 1e-3f);
-          return axis < 3 ? p[axis] / d : 0.5f * std::log(d);
-        };
         float lo[4] = {1e30f, 1e30f, 1e30f, 1e30f}, hi[4] = {-1e30f, -1e30f, -1e30f, -1e30f};
-        for (Pair* p = largest->first; p < largest->second; ++p)
+        for (Entry* x = largest->first; x < largest->second; ++x)
           for (int k = 0; k < 4; ++k) {
-            lo[k] = std::min(lo[k], coordinate(p->light, k));
-            hi[k] = std::max(hi[k], coordinate(p->light, k));
+            lo[k] = std::min(lo[k], coordinate(*x, k));
+            hi[k] = std::max(hi[k], coordinate(*x, k));
           }
         int axis = 0;
         for (int k = 1; k < 4; ++k)
           if (hi[k] - lo[k] > hi[axis] - lo[axis]) axis = k;
-        Pair* mid = largest->first + (largest->second - largest->first) / 2;
-        std::nth_element(largest->first, mid, largest->second, [&](const Pair& a, const Pair& b) {
-          const float pa = coordinate(a.light, axis), pb = coordinate(b.light, axis);
-          return pa != pb ? pa < pb : a.light < b.light;
+        Entry* mid = largest->first + (largest->second - largest->first) / 2;
+        std::nth_element(largest->first, mid, largest->second, [&](const Entry& x, const Entry& y) {
+          const float px = coordinate(x, axis), py = coordinate(y, axis);
+          return px != py ? px < py : x.node < y.node;
         });
-        const std::pair<Pair*, Pair*> right = {mid, largest->second};
+        const std::pair<Entry*, Entry*> right = {mid, largest->second};
         largest->second = mid;
         groups.push_back(right);
       }
-      const glm::vec3 ray = glm::vec3(centre[static_cast<size_t>(t)]);
-      const float size = static_cast<float>(airlight.width);
+      const glm::vec3 ray(c);
       for (const auto& [first, last] : groups) {
-        // The group's glow along the tile's central ray (each member's whole glow, its cone's too), and its
-        // weighted centre and extinction; the merged light gives that glow from where it stands.
+        // The group's glow along the tile's central ray (a light's whole glow, its cone's too; a node's as one
+        // light at its centre with its cones as one towards the eye), and its centre and extinction weighted
+        // by the entries' bounds; the merged light gives that glow from where it stands.
         glm::dvec3 position(0.0), glow(0.0);
         double w = 0.0, beta = 0.0;
-        for (Pair* p = first; p < last; ++p) {
-          const fog::FrameLight& l = frame.lights[p->light];
-          const double wi = weight[p->light];
-          position += wi * glm::dvec3(l.position_enu_m);
-          beta += wi * l.beta_per_m;
+        for (Entry* x = first; x < last; ++x) {
+          const LightTree::Node& n = tree.nodes[static_cast<size_t>(x->node)];
+          const double wi = x->importance;
+          position += wi * glm::dvec3(n.centre);
+          beta += wi * n.beta_mean;
           w += wi;
-          glow += glm::dvec3(l.intensity_cd) *
-                  double(fog::twin::atmo_fog_glow(airlight, size, l.beta_per_m, l.position_enu_m, ray, l.axis_enu,
-                                                  l.cos_inner, l.cos_outer, l.lobes, fog::twin::ATMO_FOG_FAR,
-                                                  out.core_sin));
+          if (n.leaf()) {
+            const fog::FrameLight& l = frame.lights[tree.order[n.first]];
+            glow += glm::dvec3(l.intensity_cd) *
+                    double(fog::twin::atmo_fog_glow(airlight, size, l.beta_per_m, l.position_enu_m, ray, l.axis_enu,
+                                                    l.cos_inner, l.cos_outer, l.lobes, fog::twin::ATMO_FOG_FAR,
+                                                    out.core_sin));
+          } else {
+            const double colour_peak = std::max({n.power.x, n.power.y, n.power.z});
+            if (colour_peak > 0.0) glow += glm::dvec3(n.power) / colour_peak * node_glow(n, airlight, ray, out.core_sin);
+          }
         }
         if (!(w > 0.0)) continue;
         position /= w;
@@ -190,12 +277,24 @@ GlowTiles bin_glows(const fog::FogFrame& frame, const fog::FogTable& airlight, c
         m.position_enu_m = glm::vec3(position);
         m.beta_per_m = static_cast<float>(beta);
         m.intensity_cd = glm::vec3(glow / unit);
-        out.lists.push_back(static_cast<uint32_t>(frame.lights.size() + out.merged.size()));
-        ++out.count[t];
-        out.merged.push_back(m);
+        o.merged.push_back(m);
       }
     }
+  });
+  out.offset.assign(static_cast<size_t>(tiles), 0);
+  out.count.assign(static_cast<size_t>(tiles), 0);
+  for (int t = 0; t < tiles; ++t) {
+    const TileOut& o = per_tile[static_cast<size_t>(t)];
+    out.offset[t] = static_cast<uint32_t>(out.lists.size());
+    out.lists.insert(out.lists.end(), o.exact.begin(), o.exact.end());
+    for (const fog::FrameLight& m : o.merged) {
+      out.lists.push_back(static_cast<uint32_t>(frame.lights.size() + out.merged.size()));
+      out.merged.push_back(m);
+    }
+    out.count[t] = static_cast<uint32_t>(out.lists.size() - out.offset[t]);
     out.longest_list = std::max(out.longest_list, out.count[t]);
+    out.pairs += o.visited;
+    out.overflow += o.rest;
   }
   return out;
 }
