@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <future>
 #include <memory>
 #include <optional>
 #include <string>
@@ -32,6 +33,9 @@
 struct AtmoView_T;
 
 struct AtmoContext_T {
+  // The default fog's tables (fog::fog_tables), made at creation on a worker; its destructor waits for
+  // them (a context never outlives what it started).
+  std::future<void> fog_prepared;
   atmo::abi::HostServices services;
   std::string asset_root;
   std::string application_name;

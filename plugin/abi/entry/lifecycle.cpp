@@ -1,11 +1,14 @@
 // lifecycle.cpp — contexts, their GL objects and their views.
 #include <cstring>
+#include <future>
+#include <system_error>
 #include <new>
 #include <string>
 
 #include "abi/entry/call.h"
 #include "abi/entry/entry_points.h"
 #include "abi/scene_inputs.h"
+#include "core/fog/fog_frame.h"
 
 namespace atmo::abi::entry {
 
@@ -70,6 +73,15 @@ AtmoResult create_context(const AtmoContextCreateInfo* info_in, AtmoContext* out
       ctx->services.set_application_name(ctx->application_name);
       ctx->asset_root = info.asset_root ? info.asset_root : plugin_directory();
       ctx->seed = info.seed;
+      try {
+        ctx->fog_prepared = std::async(std::launch::async, [] {
+          const atmo::fog::FogMedium defaults;
+          atmo::fog::fog_tables(atmo::fog::FogOptics{}.phase_g, defaults.airlight_table_size,
+                                atmo::fog::FogMedium::kSurfaceTableSize);
+        });
+      } catch (const std::system_error&) {
+        // No thread to spare: the first set_fog makes it.
+      }
     } catch (...) {
       services.deallocate(memory);
       throw;

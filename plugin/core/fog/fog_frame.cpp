@@ -9,8 +9,9 @@ namespace atmo::fog {
 
 void FogMedium::apply(const FogOptics& o, int table_size) {
   if (o.extinction_per_m > 0.0 && (o.phase_g != tables_phase_g || table_size != tables_airlight_size)) {
-    airlight = build_airlight_table(table_size, o.phase_g);
-    surface = build_surface_table(32, 32, o.phase_g);
+    const std::shared_ptr<const FogTables> tables = fog_tables(o.phase_g, table_size, kSurfaceTableSize);
+    airlight = tables->airlight;
+    surface = tables->surface;
     bound = std::make_unique<GlowBound>(o.phase_g);
     tables_phase_g = o.phase_g;
     tables_airlight_size = table_size;

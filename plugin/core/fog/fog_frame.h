@@ -23,6 +23,7 @@ namespace atmo::fog {
 // The fog medium: optics and the tables for its phase function.
 struct FogMedium {
   FogOptics optics;  // extinction 0: no fog
+  static constexpr int kSurfaceTableSize = 32;  // thicknesses and angles
   int airlight_table_size = 64;
   // Tables for the optics' phase function (rebuilt only when it changes).
   double tables_phase_g = NAN;

@@ -201,7 +201,9 @@ std::vector<double> surface_ghat_row(double thickness, double g, int m) {
   return row;
 }
 
-constexpr int kSurfaceGammaSamples = 513;
+// 257 samples of gamma: the Lambertian surface term's worst error to T 14 is that of 513 (1.204 against 1.203 %,
+// FogSurfaceTerm), in half the time.
+constexpr int kSurfaceGammaSamples = 257;
 
 // The lobes' azimuth integrals for every row of a surface table of theta_size angles (layer k, angle j):
 // they depend on neither the thickness nor the phase, so a process makes them once per table height.
@@ -225,6 +227,30 @@ const std::vector<double>& surface_lobes(int theta_size) {
 }
 
 }  // namespace
+
+std::shared_ptr<const FogTables> fog_tables(double g, int airlight_size, int surface_size) {
+  struct Made {
+    double g;
+    int airlight_size, surface_size;
+    std::shared_ptr<const FogTables> tables;
+  };
+  constexpr size_t kKept = 4;
+  static std::mutex mutex;
+  static std::vector<Made> made;  // the most recently used last
+  const std::lock_guard<std::mutex> lock(mutex);
+  for (size_t k = 0; k < made.size(); ++k)
+    if (made[k].g == g && made[k].airlight_size == airlight_size && made[k].surface_size == surface_size) {
+      std::rotate(made.begin() + static_cast<std::ptrdiff_t>(k), made.begin() + static_cast<std::ptrdiff_t>(k) + 1,
+                  made.end());
+      return made.back().tables;
+    }
+  auto tables = std::make_shared<FogTables>();
+  tables->airlight = build_airlight_table(airlight_size, g);
+  tables->surface = build_surface_table(surface_size, surface_size, g);
+  if (made.size() == kKept) made.erase(made.begin());
+  made.push_back({g, airlight_size, surface_size, tables});
+  return tables;
+}
 
 double surface_g(double thickness, double theta, double exponent, double g) {
   const int m = 4097;

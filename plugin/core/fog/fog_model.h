@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cmath>
+#include <memory>
 #include <vector>
 
 namespace atmo::fog {
@@ -74,6 +75,16 @@ FogTable build_airlight_table(int size, double g);
 // holds T = 100). Texels hold e^T G_n(T, theta).
 constexpr int kSurfaceLayers = 9;
 FogTable build_surface_table(int thickness_size, int theta_size, double g);
+// A phase's tables (the airlight table of airlight_size, the surface table of
+// surface_size x surface_size angles), made once per process and kept (the
+// last few phases): ~40 ms on 2 cores the first time, ~30 ms of it the
+// surface table's lobes, which no phase changes. A context makes the default
+// phase's on a worker when it is created, so that its first set_fog need not
+// wait; a call for tables being made waits for them.
+struct FogTables {
+  FogTable airlight, surface;
+};
+std::shared_ptr<const FogTables> fog_tables(double g, int airlight_size, int surface_size);
 // G_n(T, theta) by quadrature (the table's reference), n >= 1.
 double surface_g(double thickness, double theta, double exponent, double g);
 
