@@ -22,8 +22,6 @@ uniform int u_divisor;
 layout(location = 0) out vec4 out_near;
 layout(location = 1) out vec4 out_far;
 
-vec4 glow_texel(int i, int k) { return texelFetch(u_glows, ivec2(4 * (i % 256) + k, i / 256), 0); }
-
 // The distance to the host's surface at viewport pixel px (ATMO_FOG_FAR where it drew nothing).
 float surface_distance(vec2 px) {
   if (u_has_depth == 0) return ATMO_FOG_FAR;
@@ -33,20 +31,10 @@ float surface_distance(vec2 px) {
   return p.w < 0.0 ? ATMO_FOG_FAR : length(p.xyz);
 }
 
-// The sum of the tile's glows along `dir` up to d_vp.
+// The sum of the tile's glows along `dir` up to d_vp (the include's atmo_fog_tile_glows).
 vec3 glows(uint first, uint count, vec3 dir, float d_vp) {
-  vec3 sum = vec3(0.0);
-  for (uint j = 0u; j < count; ++j) {
-    uint entry = first + j;
-    int i = int(texelFetch(u_lists, ivec2(int(entry % 4096u), int(entry / 4096u)), 0).r);
-    vec4 t0 = glow_texel(i, 0);  // position relative to the eye (ENU m), effective extinction
-    vec4 t1 = glow_texel(i, 1);  // intensity x albedo (cd), cos_inner
-    vec4 t2 = glow_texel(i, 2);  // cone axis (ENU), cos_outer
-    vec4 t3 = glow_texel(i, 3);  // cone lobes
-    sum += t1.rgb * atmo_fog_glow(u_fog_airlight, u_fog_airlight_size, t0.w, t0.xyz, dir, t2.xyz, t1.w, t2.w, t3.x,
-                                  d_vp, u_core_sin);
-  }
-  return sum;
+  return atmo_fog_tile_glows(u_fog_airlight, u_fog_airlight_size, u_lists, u_glows, first, count, dir, d_vp,
+                             u_core_sin);
 }
 
 void main() {

@@ -169,6 +169,17 @@ bool FogRenderer::upload_glows(const fog::FogFrame& frame, const lights::GlowTil
   return check_gl("uploading the glows' tiles", error);
 }
 
+void FogRenderer::ensure_glow_textures() {
+  if (glow_tiles_ && glow_lists_ && glow_entries_) return;
+  GlStateGuard guard(kUnitsUsed);
+  const uint32_t none[2] = {0u, 0u};
+  const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  glActiveTexture(GL_TEXTURE0);
+  texture_2d(&glow_tiles_, GL_RG32UI, 1, 1, GL_RG_INTEGER, GL_UNSIGNED_INT, none);
+  texture_2d(&glow_lists_, GL_R32UI, 1, 1, GL_RED_INTEGER, GL_UNSIGNED_INT, none);
+  texture_2d(&glow_entries_, GL_RGBA32F, 1, 1, GL_RGBA, GL_FLOAT, zero);
+}
+
 bool FogRenderer::ensure_smooth_target(int width, int height, std::string* error) {
   if (smooth_fbo_ && width == smooth_width_ && height == smooth_height_) return true;
   if (!smooth_fbo_) glGenFramebuffers(1, &smooth_fbo_);
@@ -216,7 +227,8 @@ bool FogRenderer::draw(const Renderer&, const PassInputs& in, const FogDrawInput
     stats_.covered_pixels += (r.z - r.x) * half_w * (r.w - r.y) * half_h;
   }
   const bool smooth = !glows.lists.empty();
-  if (smooth && !upload_glows(frame, glows, fog.albedo, error)) return false;
+  // Uploaded even when empty: the translucent surfaces' include reads this frame's glows.
+  if (!upload_glows(frame, glows, fog.albedo, error)) return false;
 
   guard.use_single_draw_buffer();
   glDisable(GL_DEPTH_TEST);

@@ -61,6 +61,13 @@ class FogRenderer {
   GLuint light_texture() const { return light_texture_; }
   GLuint cluster_grid() const { return cluster_grid_; }
   GLuint far_field() const { return far_field_; }
+  // What the translucent surfaces' include reads (atmo_fog_translucent): the airlight table and the glows of
+  // the last draw (made, empty, when none was drawn yet: a host may bind them before).
+  GLuint airlight_table() const { return airlight_table_; }
+  void ensure_glow_textures();
+  GLuint glow_tiles() const { return glow_tiles_; }
+  GLuint glow_lists() const { return glow_lists_; }
+  GLuint glow_entries() const { return glow_entries_; }
   const FogDrawStats& last_stats() const { return stats_; }
 
  private:

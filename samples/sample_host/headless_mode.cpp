@@ -1,9 +1,13 @@
 // Headless mode: an EGL context and an offscreen target instead of a window;
 // the camera flies the fixed approach path; frames go to DIR/frame_NNN.png.
+// Each frame prints its sections' GPU times (timer queries) and wall times to
+// glFinish, the lights sent and the plugin's counts of its light work.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <vector>
 
 #include "atmo_support/headless_gl.h"
 #include "atmo_support/image.h"
@@ -27,6 +31,24 @@ void print_timings(const char* label, const double* ms, int count) {
     }
   }
   std::printf("  | total %.3f ms\n", total);
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+void print_air_and_lights(const SceneSettings& s, const FrameReport& first) {
+  std::printf("lights: %s, %u sent (group 0: %u, group 1: %u; set_lights %.2f ms)", lights_choice_name(s.lights),
+              first.lights_sent, first.group_lights[0], first.group_lights[1], first.set_lights_ms);
+  if (s.fog_visibility_m > 0.0) {
+    std::printf("; fog: RVR %.0f m, top %.0f m above the airfield", s.fog_visibility_m, s.fog_top_m);
+  } else {
+    std::printf("; no fog");
+  }
+  std::printf("; visibility %.0f m\n", s.visibility_m);
 }
 
 }  // namespace
@@ -86,18 +108,37 @@ int run_headless(const Options& options, SceneSettings settings) {
 
   double sum[kSectionCount] = {};
   int counted[kSectionCount] = {};
+  std::vector<double> wall[kSectionCount];
+  uint32_t lights_sent = 0;
+  if (status == 0) {
+    std::printf("%dx%d; per frame: GPU time (timer queries), then the wall time to glFinish of each section, ms\n",
+                options.width, options.height);
+  }
   for (int i = 0; status == 0 && i < options.frames; ++i) {
     settings.pose = approach_path(options.frames > 1 ? static_cast<double>(i) / (options.frames - 1) : 0.0);
+    // Each section finished before the next: llvmpipe defers rasterisation,
+    // and its timer queries would credit the terrain's to the sky pass.
     const FrameReport report = renderer->render_frame(settings, static_cast<uint64_t>(i), target->fbo(),
-                                                      options.width, options.height, true);
+                                                      options.width, options.height, true, true);
+    if (i == 0) print_air_and_lights(settings, report);
+    lights_sent = report.lights_sent;
     char label[32];
     std::snprintf(label, sizeof label, "frame %03d (ms):", i);
     print_timings(label, report.gpu_ms.data(), kSectionCount);
+    print_timings("  to glFinish:  ", report.wall_ms.data(), kSectionCount);
+    const auto wall_ms = [&](int section) { return report.wall_ms[static_cast<size_t>(section)]; };
+    std::printf("  lights: %u sent, %u lighting the terrain (get_fog_lighting %.2f ms CPU); light glows %.2f ms, "
+                "light points %.2f ms, lit terrain %.2f ms (to glFinish)\n",
+                report.lights_sent, report.fog_lighting.light_count, report.fog_lighting_ms,
+                wall_ms(kSectionLightGlows), wall_ms(kSectionLightPoints), wall_ms(kSectionTerrain));
+    for (const std::string& line : report.light_debug)
+      if (!line.empty()) std::printf("  plugin: %s\n", line.c_str());
     for (int s = 0; s < kSectionCount; ++s) {
       if (!std::isnan(report.gpu_ms[static_cast<size_t>(s)])) {
         sum[s] += report.gpu_ms[static_cast<size_t>(s)];
         ++counted[s];
       }
+      if (!std::isnan(wall_ms(s))) wall[s].push_back(wall_ms(s));
     }
     if (!report.errors.empty()) {
       for (const std::string& message : report.errors) std::fprintf(stderr, "atmo-sample-host: frame %d: %s\n", i, message.c_str());
@@ -118,6 +159,13 @@ int run_headless(const Options& options, SceneSettings settings) {
     double mean[kSectionCount];
     for (int s = 0; s < kSectionCount; ++s) mean[s] = counted[s] ? sum[s] / counted[s] : std::nan("");
     print_timings("mean (ms):     ", mean, kSectionCount);
+    double medians[kSectionCount];
+    for (int s = 0; s < kSectionCount; ++s) medians[s] = median(wall[s]);
+    print_timings("median to glFinish (ms):", medians, kSectionCount);
+    std::printf("light passes, median to glFinish: light glows %.2f ms, light points %.2f ms, lit terrain %.2f ms; "
+                "%u lights, %dx%d, %d frames\n",
+                medians[kSectionLightGlows], medians[kSectionLightPoints], medians[kSectionTerrain], lights_sent,
+                options.width, options.height, options.frames);
     std::printf("wrote %d frames to %s\n", options.frames, options.out_dir.c_str());
   }
 

@@ -5,6 +5,7 @@
 //   atmo-sample-host [--plugin PATH] [--lat D --lon D] [--utc 2024-06-21T15:00:00Z]
 //   atmo-sample-host --frames N --out DIR     headless: N frames as DIR/frame_NNN.png
 //   atmo-sample-host --cloud cumulus:4:1200:2500   a cloud layer (repeatable; --vdb FILE[:GRID])
+//   atmo-sample-host --lights airport+town --rvr 550   the airport and a town, 15 000 lights, in fog
 #include <cstdio>
 #include <string>
 #include <tuple>
@@ -56,13 +57,22 @@ int main(int argc, char** argv) {
   app.add_option("--visibility", settings.visibility_m, "Meteorological visibility, m")
       ->check(CLI::Range(50.0, 500000.0))
       ->capture_default_str();
-  app.add_option("--fog", settings.fog_visibility_m,
-                 "Ground fog's visibility (MOR), m; the runway's lights glow in it (0: no fog)")
-      ->check(CLI::Range(0.0, 5000.0))
+  std::string rvr = "none";
+  app.add_option("--rvr,--fog", rvr,
+                 "Ground fog's visibility as RVR (its MOR), m, 50 to 10000, or none; the lights glow in it")
       ->capture_default_str();
   app.add_option("--fog-top", settings.fog_top_m, "Fog top above the airfield, m")
       ->check(CLI::Range(1.0, 3000.0))
       ->capture_default_str();
+  std::string lights = sample::lights_choice_name(settings.lights);
+  app.add_option("--lights", lights,
+                 "The lights sent to the plugin: none, runway (the terrain's), airport (2 runways, taxiways) or "
+                 "airport+town")
+      ->capture_default_str();
+  auto* town = app.add_option("--town", settings.town_lights,
+                              "With --lights airport+town: the town's lights (1 300 a km^2; default: 15 000 in all)")
+                   ->check(CLI::Range(0u, sample::max_town_lights()))
+                   ->capture_default_str();
   app.add_option("--ev", settings.ev100, "Exposure, EV100")->capture_default_str();
   app.add_option("--depth", depth, "Depth convention")
       ->check(CLI::IsMember({"standard", "reversed", "log", "logarithmic"}))
@@ -110,6 +120,20 @@ int main(int argc, char** argv) {
     return 2;
   }
   atmo::host_scene::parse_depth_convention(depth.c_str(), &settings.depth_convention);
+  std::string option_error;
+  if (!sample::parse_rvr(rvr, &settings.fog_visibility_m, &option_error)) {
+    std::fprintf(stderr, "atmo-sample-host: --rvr: %s\n", option_error.c_str());
+    return 2;
+  }
+  if (!sample::parse_lights_choice(lights, &settings.lights, &option_error)) {
+    std::fprintf(stderr, "atmo-sample-host: --lights: %s\n", option_error.c_str());
+    return 2;
+  }
+  if (town->count() > 0 && settings.lights != sample::LightsChoice::AirportTown) {
+    std::fprintf(stderr, "atmo-sample-host: --town: the town is sent with --lights airport+town only (not %s)\n",
+                 lights.c_str());
+    return 2;
+  }
   using LayerParser = bool (*)(const std::string&, sample::CloudLayerSettings*, std::string*);
   const std::tuple<const char*, const std::vector<std::string>*, LayerParser> layer_options[] = {
       {"--cloud", &cloud_layers, &sample::parse_cloud_layer}, {"--vdb", &vdb_layers, &sample::parse_vdb_layer}};

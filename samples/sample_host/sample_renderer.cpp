@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -12,6 +13,7 @@
 
 #include "atmo_host_scene/depth_setup.h"
 #include "atmo_host_scene/gl_program.h"
+#include "atmo_host_scene/light_layouts.h"
 
 namespace atmo::sample::embedded_glsl {
 std::string_view find(std::string_view path);
@@ -68,9 +70,9 @@ const char* severity_name(int32_t severity) {
 }  // namespace
 
 const char* section_name(int section) {
-  static const char* const names[kSectionCount] = {"terrain",         "sky",         "aerial perspective",
-                                                   "night sky",       "clouds",      "light glows",
-                                                   "tone map"};
+  static const char* const names[kSectionCount] = {"terrain",     "sky",         "aerial perspective",
+                                                   "night sky",   "clouds",      "light glows",
+                                                   "light points", "tone map"};
   return section >= 0 && section < kSectionCount ? names[section] : "?";
 }
 
@@ -81,6 +83,7 @@ int section_pass(int section) {
     case kSectionNightSky: return ATMO_PASS_NIGHT_SKY;
     case kSectionClouds: return ATMO_PASS_CLOUDS;
     case kSectionLightGlows: return ATMO_PASS_LIGHT_GLOWS;
+    case kSectionLightPoints: return ATMO_PASS_LIGHT_POINTS;
   }
   return -1;
 }
@@ -110,6 +113,17 @@ void SampleRenderer::log_callback(void* user, int32_t severity, const char* mess
   if (severity >= ATMO_LOG_ERROR) {
     const std::lock_guard<std::mutex> lock(self->log_mutex_);
     self->logged_errors_.push_back(std::string("log (") + severity_name(severity) + "): " + (message ? message : ""));
+  }
+  // The light passes' counts: "frame N, channel C: light points: ..." (abi/entry/fog.cpp). Kept per frame.
+  static const char* const kinds[kLightDebugCount] = {"light clusters: ", "fog: ", "light points: "};
+  const char* body = severity == ATMO_LOG_DEBUG && message ? std::strstr(message, ": ") : nullptr;
+  if (!body || std::strncmp(message, "frame ", 6) != 0) return;
+  body += 2;
+  for (int k = 0; k < kLightDebugCount; ++k) {
+    if (std::strncmp(body, kinds[k], std::strlen(kinds[k])) == 0) {
+      const std::lock_guard<std::mutex> lock(self->log_mutex_);
+      self->light_debug_[static_cast<size_t>(k)] = body;
+    }
   }
 }
 
@@ -270,13 +284,62 @@ bool SampleRenderer::set_clouds(const SceneSettings& settings, std::string* mess
   return true;
 }
 
+std::vector<AtmoLightPoint> SampleRenderer::draped(std::vector<AtmoLightPoint> lights) const {
+  // The layouts stand on the datum plane; this host's ground has hills and
+  // falls away with the Earth's curvature, as the terrain's own lights do.
+  for (AtmoLightPoint& l : lights) {
+    const double east = l.position_m[0], north = l.position_m[1];
+    l.position_m[2] += terrain_->height_at(east, north) - hs::curvature_drop_m(east, north);
+  }
+  return lights;
+}
+
+void SampleRenderer::send_lights(const SceneSettings& settings, FrameReport* report) {
+  // Group 0: the runway's or the airport's lights; group 1: the town's. A
+  // group is the host's unit of change: the town's slider re-sends only it.
+  const auto group0 = [](LightsChoice c) {
+    return c == LightsChoice::AirportTown ? LightsChoice::Airport : c;
+  };
+  const auto town = [](const SceneSettings& s) { return s.lights == LightsChoice::AirportTown ? s.town_lights : 0u; };
+  // A new airfield datum moves every light (the groups' ENU origin).
+  const hs::Geodetic& o = settings.origin;
+  const bool moved = o.latitude_deg != last_lights_origin_.latitude_deg ||
+                     o.longitude_deg != last_lights_origin_.longitude_deg || o.height_m != last_lights_origin_.height_m;
+  const bool send0 = !lights_sent_ || moved || group0(settings.lights) != group0(last_lights_);
+  const bool send1 = !lights_sent_ || moved || town(settings) != last_town_lights_;
+  if (!send0 && !send1) return;
+  std::vector<AtmoLightPoint> lights[2];
+  if (send0 && settings.lights == LightsChoice::Runway) lights[0] = terrain_->atmo_light_points();
+  if (send0 && group0(settings.lights) == LightsChoice::Airport) lights[0] = draped(hs::airport_lights(sample_airport()));
+  if (send1 && town(settings) > 0) lights[1] = draped(hs::town_lights(sample_town(town(settings))));
+  // Group 0 first: the town's largest count leaves room for the airport only
+  // (all groups together hold at most ATMO_LIGHTS_MAX).
+  const auto start = std::chrono::steady_clock::now();
+  for (uint32_t g = 0; g < 2; ++g) {
+    if (!(g == 0 ? send0 : send1)) continue;
+    context_->set_lights(atmo::lights_state(g, lights[g], settings.origin.latitude_deg, settings.origin.longitude_deg,
+                                            settings.origin.height_m));
+    group_lights_[g] = static_cast<uint32_t>(lights[g].size());
+  }
+  report->set_lights_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  lights_sent_ = true;
+  last_lights_origin_ = o;
+  last_lights_ = settings.lights;
+  last_town_lights_ = town(settings);
+}
+
 FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t frame_number, unsigned target_fbo,
-                                         int width, int height, bool wait_for_timings) {
+                                         int width, int height, bool wait_for_timings, bool finish_sections) {
   const auto cpu_start = std::chrono::steady_clock::now();
   FrameReport report;
   report.pass_results.fill(kNotRun);
   report.gpu_ms.fill(std::nan(""));
+  report.wall_ms.fill(std::nan(""));
   report.scene_lighting = fallback_lighting();
+  {
+    const std::lock_guard<std::mutex> lock(log_mutex_);
+    for (std::string& line : light_debug_) line.clear();
+  }
 
   std::string error;
   if (width <= 0 || height <= 0) return report;  // minimised window
@@ -313,9 +376,8 @@ FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t
       last_visibility_m_ = settings.visibility_m;
     }
     if (settings.fog_visibility_m != last_fog_visibility_m_ || settings.fog_top_m != last_fog_top_m_) {
-      // Fog: the plugin's medium and the runway's lights in it; no fog, no lights (no glow cost).
-      const std::vector<AtmoLightPoint> points =
-          settings.fog_visibility_m > 0.0 ? terrain_->atmo_light_points() : std::vector<AtmoLightPoint>{};
+      // Each change of the RVR slider: set_fog is cheap for a phase function
+      // the process has seen (its tables are kept), so no need to wait for the drag's end.
       if (settings.fog_visibility_m > 0.0) {
         auto fog = atmo::make<AtmoFogState>(ATMO_TYPE_FOG_STATE);
         fog.visibility_m = settings.fog_visibility_m;
@@ -324,10 +386,12 @@ FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t
       } else {
         context_->clear_fog();
       }
-      context_->set_lights(hs::lights_state_enu(settings.origin, points));  // threshold: 1/2000 of the view's white
       last_fog_visibility_m_ = settings.fog_visibility_m;
       last_fog_top_m_ = settings.fog_top_m;
     }
+    // The lights, in fog or clear air (the points pass draws them in both);
+    // glow threshold the default, 1/2000 of the view's white.
+    send_lights(settings, &report);
     auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
     frame.host_frame_number = frame_number;
     frame.utc_posix_s = settings.utc_posix_s;
@@ -335,13 +399,33 @@ FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t
     view_->set(hs::make_view_state(setup));
     report.lighting = view_->lighting();
     report.scene_lighting = hs::lighting_from_atmo(report.lighting);
-    // The plugin's lights in its fog, for the terrain's own shader (atmo_fog_lights.glsl).
+    // The plugin's lights (in its fog or clear air), for the terrain's own shader (atmo_fog_lights.glsl).
+    const auto lighting_start = std::chrono::steady_clock::now();
     report.fog_lighting = view_->fog_lighting();
+    report.fog_lighting_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - lighting_start).count();
   } catch (const atmo::Error& e) {
     report.errors.push_back(e.what());
     plugin_ready = false;
   }
 
+  // finish_sections: each section's work done inside its own query and wall time.
+  auto section_start = std::chrono::steady_clock::now();
+  const auto begin = [&](int section) {
+    if (finish_sections) {
+      glFinish();
+      section_start = std::chrono::steady_clock::now();
+    }
+    timers_.begin(section);
+  };
+  const auto end = [&](int section) {
+    if (finish_sections) {
+      glFinish();
+      report.wall_ms[static_cast<size_t>(section)] =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - section_start).count();
+    }
+    timers_.end();
+  };
   timers_.begin_frame();
   {
     const hs::DepthSetup depth(settings.depth_convention);
@@ -352,28 +436,28 @@ FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t
     glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
-    timers_.begin(kSectionTerrain);
+    begin(kSectionTerrain);
     terrain_->draw(setup, report.scene_lighting,
                    report.fog_lighting.light_count > 0 ? &report.fog_lighting : nullptr);
-    timers_.end();
+    end(kSectionTerrain);
 
     if (plugin_ready) {
       glBindFramebuffer(GL_FRAMEBUFFER, atmo_fbo_);
-      for (int section = kSectionSky; section <= kSectionLightGlows; ++section) {
+      for (int section = kSectionSky; section <= kSectionLightPoints; ++section) {
         const int pass = section_pass(section);
-        timers_.begin(section);
+        begin(section);
         try {
           report.pass_results[static_cast<size_t>(pass)] = view_->render(static_cast<AtmoPass>(pass));
         } catch (const atmo::Error& e) {
           report.pass_results[static_cast<size_t>(pass)] = e.code();
           report.errors.push_back(e.what());
         }
-        timers_.end();
+        end(section);
       }
     }
   }
 
-  timers_.begin(kSectionToneMap);
+  begin(kSectionToneMap);
   glBindFramebuffer(GL_FRAMEBUFFER, target_fbo);
   glViewport(0, 0, width, height);
   glDisable(GL_DEPTH_TEST);
@@ -388,11 +472,17 @@ FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t
   glBindVertexArray(0);
   glBindTexture(GL_TEXTURE_2D, 0);
   glUseProgram(0);
-  timers_.end();
+  end(kSectionToneMap);
   timers_.end_frame(wait_for_timings);
 
   for (size_t i = 0; i < report.gpu_ms.size(); ++i) report.gpu_ms[i] = timers_.milliseconds()[i];
   report.timings_valid = timers_.has_results();
+  report.group_lights = group_lights_;
+  report.lights_sent = group_lights_[0] + group_lights_[1];
+  {
+    const std::lock_guard<std::mutex> lock(log_mutex_);
+    report.light_debug = light_debug_;
+  }
   for (std::string& message : take_logged_errors()) report.errors.push_back(std::move(message));
   const GLenum gl_error = glGetError();
   if (gl_error != GL_NO_ERROR) {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -18,14 +19,16 @@
 namespace atmo::sample {
 
 // Timed sections of a frame, in drawing order: the plugin's passes in the
-// order atmo.h asks for (clouds after the night sky, so they hide the stars).
+// order atmo.h asks for (clouds after the night sky, so they hide the stars;
+// the light points after the glows, as they carry their own fog).
 enum Section {
-  kSectionTerrain = 0,
+  kSectionTerrain = 0,         // the host's terrain, lit by the plugin's lights when there are any
   kSectionSky,                 // ATMO_PASS_SKY
   kSectionAerialPerspective,   // ATMO_PASS_AERIAL_PERSPECTIVE
   kSectionNightSky,            // ATMO_PASS_NIGHT_SKY
   kSectionClouds,              // ATMO_PASS_CLOUDS
   kSectionLightGlows,          // ATMO_PASS_LIGHT_GLOWS
+  kSectionLightPoints,         // ATMO_PASS_LIGHT_POINTS
   kSectionToneMap,
   kSectionCount
 };
@@ -33,12 +36,24 @@ const char* section_name(int section);
 // The plugin pass a section draws; -1 for the host's own sections.
 int section_pass(int section);
 
+// The plugin's debug counts of the light work (its ATMO_LOG_DEBUG lines, less
+// their "frame N, channel C: " prefix), in the order it does them.
+enum LightDebug { kDebugClusters = 0, kDebugGlows, kDebugPoints, kLightDebugCount };
+
 struct FrameReport {
   std::array<double, kSectionCount> gpu_ms{};  // newest available timings; NaN: not run / none yet
+  // Wall time of each section to glFinish, ms (render_frame's finish_sections; else NaN).
+  std::array<double, kSectionCount> wall_ms{};
   bool timings_valid = false;
   std::array<AtmoResult, ATMO_PASS_COUNT> pass_results{};  // by AtmoPass
   AtmoLighting lighting{};          // from get_lighting
-  AtmoFogLighting fog_lighting{};   // from get_fog_lighting (light_count 0: no fog or no lights)
+  AtmoFogLighting fog_lighting{};   // from get_fog_lighting (light_count 0: no lights near the view)
+  double fog_lighting_ms = 0.0;     // CPU time of get_fog_lighting (the lights' clusters for the terrain)
+  // The lights the plugin holds, by group (0: the runway's or the airport's, 1: the town's).
+  std::array<uint32_t, 2> group_lights{};
+  uint32_t lights_sent = 0;         // all groups
+  double set_lights_ms = std::numeric_limits<double>::quiet_NaN();       // CPU time of this frame's set_lights calls; NaN: none this frame
+  std::array<std::string, kLightDebugCount> light_debug;  // empty: the plugin did not say this frame
   host_scene::SceneLighting scene_lighting;
   std::vector<std::string> errors;  // plugin errors and error-level log messages of this frame
   double cpu_ms = 0.0;              // CPU time of render_frame
@@ -60,8 +75,11 @@ class SampleRenderer {
 
   // [gl-current] Renders one frame into target_fbo (0: the window), width x
   // height pixels. wait_for_timings: read this frame's GPU timings (stalls).
+  // finish_sections: glFinish after each section and report its wall time
+  // (a deferring rasteriser such as llvmpipe credits a section's work to a
+  // later one in the timer queries; stalls).
   FrameReport render_frame(const SceneSettings& settings, uint64_t frame_number, unsigned target_fbo, int width,
-                           int height, bool wait_for_timings);
+                           int height, bool wait_for_timings, bool finish_sections = false);
 
   // Replaces the plugin's clouds with settings.clouds (set_clouds; no GL).
   // True on success; *message says what was set, or why the plugin refused
@@ -74,12 +92,16 @@ class SampleRenderer {
  private:
   static void log_callback(void* user, int32_t severity, const char* message);
   bool ensure_targets(int width, int height, std::string* error);
+  // set_lights for the settings' lights when they change; throws atmo::Error.
+  void send_lights(const SceneSettings& settings, FrameReport* report);
+  std::vector<AtmoLightPoint> draped(std::vector<AtmoLightPoint> lights) const;
   void release_targets();
   std::vector<std::string> take_logged_errors();
 
   bool verbose_ = false;
   std::mutex log_mutex_;
   std::vector<std::string> logged_errors_;
+  std::array<std::string, kLightDebugCount> light_debug_;  // this frame's, from the log callback
 
   std::unique_ptr<atmo::Plugin> plugin_;
   std::unique_ptr<atmo::Context> context_;
@@ -87,6 +109,11 @@ class SampleRenderer {
   std::unique_ptr<host_scene::Terrain> terrain_;
   double last_visibility_m_ = -1.0;
   double last_fog_visibility_m_ = -1.0, last_fog_top_m_ = -1.0;
+  bool lights_sent_ = false;
+  host_scene::Geodetic last_lights_origin_;
+  LightsChoice last_lights_ = LightsChoice::None;
+  uint32_t last_town_lights_ = 0;
+  std::array<uint32_t, 2> group_lights_{};
 
   // scene_fbo_: colour + depth, for opaques. atmo_fbo_: the same colour only,
   // for the plugin's passes, which sample the depth texture (no feedback loop).

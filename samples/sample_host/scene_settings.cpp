@@ -144,6 +144,86 @@ bool parse_vdb_layer(const std::string& text, CloudLayerSettings* out, std::stri
   return true;
 }
 
+const char* lights_choice_name(LightsChoice choice) {
+  switch (choice) {
+    case LightsChoice::None: return "none";
+    case LightsChoice::Runway: return "runway";
+    case LightsChoice::Airport: return "airport";
+    case LightsChoice::AirportTown: return "airport+town";
+  }
+  return "?";
+}
+
+bool parse_lights_choice(const std::string& text, LightsChoice* out, std::string* error) {
+  for (LightsChoice c : kLightsChoices) {
+    if (text == lights_choice_name(c)) {
+      *out = c;
+      return true;
+    }
+  }
+  *error = "'" + text + "' is not none, runway, airport or airport+town";
+  return false;
+}
+
+host_scene::AirportSpec sample_airport() {
+  const host_scene::TerrainOptions terrain;
+  host_scene::AirportSpec a;
+  host_scene::RunwaySpec first;
+  first.centre_enu_m = {0.0, 0.0};
+  first.heading_deg = terrain.runway_heading_deg;
+  first.length_m = terrain.runway_length_m;
+  first.width_m = terrain.runway_width_m;
+  // The bench's crossing runway (900 m east, 1 200 m north of runway 36's
+  // centre, heading 60) in this runway's frame: 1 200 m along it, 900 m right.
+  const double h = glm::radians(terrain.runway_heading_deg);
+  const glm::dvec2 along(std::sin(h), std::cos(h)), right(std::cos(h), -std::sin(h));
+  host_scene::RunwaySpec second;
+  second.centre_enu_m = along * 1200.0 + right * 900.0;
+  second.heading_deg = std::fmod(terrain.runway_heading_deg + 60.0, 360.0);
+  second.length_m = 2500.0;
+  a.runways = {first, second};
+  a.taxiway_length_m = 9000.0;
+  return a;
+}
+
+host_scene::TownSpec sample_town(uint32_t lights) {
+  const host_scene::TerrainOptions terrain;
+  const double h = glm::radians(terrain.runway_heading_deg);
+  host_scene::TownSpec t;
+  t.centre_enu_m = glm::dvec2(std::sin(h), std::cos(h)) * 6000.0;
+  t.lights = lights;
+  t.lights_per_km2 = 1300.0;
+  return t;
+}
+
+namespace {
+uint32_t airport_light_count() {
+  static const uint32_t n = static_cast<uint32_t>(host_scene::airport_lights(sample_airport()).size());
+  return n;
+}
+}  // namespace
+
+uint32_t default_town_lights() { return 15000u - airport_light_count(); }
+
+uint32_t max_town_lights() { return ATMO_LIGHTS_MAX - airport_light_count(); }
+
+bool parse_rvr(const std::string& text, double* rvr_m, std::string* error) {
+  if (text == "none" || text == "0") {
+    *rvr_m = 0.0;
+    return true;
+  }
+  double v = 0.0;
+  std::string why;
+  if (!parse_number(text, "RVR", &v, &why) || v < kRvrMinM || v > kRvrMaxM) {
+    char range[96];
+    std::snprintf(range, sizeof range, "is not 'none' or metres from %.0f to %.0f", kRvrMinM, kRvrMaxM);
+    *error = "'" + text + "' " + range;
+    return false;
+  }
+  *rvr_m = v;
+  return true;
+}
+
 host_scene::CameraPose approach_path(double t) {
   const host_scene::TerrainOptions runway;  // heading 90: landing eastwards
   const double touchdown = -0.5 * runway.runway_length_m + 300.0;

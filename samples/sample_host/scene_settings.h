@@ -1,6 +1,6 @@
-// scene_settings.h — what the sample host shows: place, time, air, camera,
-// depth convention, exposure, the weather's cloud layers. Shared by the window
-// and headless modes.
+// scene_settings.h — what the sample host shows: place, time, air, fog,
+// lights, camera, depth convention, exposure, the weather's cloud layers.
+// Shared by the window and headless modes.
 #pragma once
 
 #include <cstdint>
@@ -9,6 +9,7 @@
 
 #include "atmo/atmo.h"
 #include "atmo_host_scene/camera.h"
+#include "atmo_host_scene/light_layouts.h"
 
 namespace atmo::sample {
 
@@ -55,15 +56,54 @@ const char* cloud_quality_name(uint32_t quality);
 bool parse_cloud_layer(const std::string& text, CloudLayerSettings* out, std::string* error);
 bool parse_vdb_layer(const std::string& text, CloudLayerSettings* out, std::string* error);
 
+// The lights the host sends (set_lights; ATMO_PASS_LIGHT_GLOWS draws their
+// glows in fog, ATMO_PASS_LIGHT_POINTS their images in any air):
+//   None: no lights for the plugin (the terrain still draws its own points);
+//   Runway: the terrain's runway (approach, threshold, end and edge lights);
+//   Airport: light_layouts.h's airport on the terrain's runway (two runways,
+//     touchdown zone, centreline, approach and taxiway lights; 2 893);
+//   AirportTown: and a town beyond it, 15 000 lights in all by default (the
+//     scene of bench/lights_scale_bench.cpp, turned to this runway).
+enum class LightsChoice { None, Runway, Airport, AirportTown };
+constexpr LightsChoice kLightsChoices[] = {LightsChoice::None, LightsChoice::Runway, LightsChoice::Airport,
+                                           LightsChoice::AirportTown};
+// "none", "runway", "airport", "airport+town".
+const char* lights_choice_name(LightsChoice choice);
+// One of those names; false with *error listing them.
+bool parse_lights_choice(const std::string& text, LightsChoice* out, std::string* error);
+
+// The airport: its first runway is host_scene::Terrain's (default options:
+// centred on the datum, heading 90, 3 000 x 45 m), the second crosses it
+// south-east of the centre, with 9 km of taxiways (the bench's layout turned by
+// 90 degrees). Positions on the datum plane; the renderer drapes them on the terrain.
+host_scene::AirportSpec sample_airport();
+// The town 6 km beyond the runway's centre (east, along the landing
+// direction, as the bench's is north), `lights` at 1 300 a square kilometre.
+host_scene::TownSpec sample_town(uint32_t lights);
+// The town's default: the airport's lights plus it make 15 000 (the bench's scene).
+uint32_t default_town_lights();
+// The most town lights: all groups together hold ATMO_LIGHTS_MAX.
+uint32_t max_town_lights();
+
+// The fog's visibility as runway visual range (its MOR, the same extinction:
+// ln 20 / RVR), m: from CAT IIIB's lowest RVR to a thin haze layer.
+constexpr double kRvrMinM = 50.0;
+constexpr double kRvrMaxM = 10000.0;
+// --rvr: "none" or "0" (no fog), or metres in [kRvrMinM, kRvrMaxM]. False
+// with *error saying why.
+bool parse_rvr(const std::string& text, double* rvr_m, std::string* error);
+
 struct SceneSettings {
   host_scene::Geodetic origin{47.4647, 8.5492, 432.0};  // airfield datum (ENU origin)
   host_scene::CameraPose pose;
   double utc_posix_s = 1718982000.0;  // 2024-06-21T15:00:00Z
   double visibility_m = 40000.0;
-  // Ground fog lit by the runway's lights (set_fog, set_lights): MOR in the
-  // fog, m (0: no fog), and its top above the airfield datum, m.
+  // Ground fog (set_fog): its visibility, the RVR (MOR in the fog), m (0: no
+  // fog), and its top above the airfield datum, m.
   double fog_visibility_m = 0.0;
   double fog_top_m = 100.0;
+  LightsChoice lights = LightsChoice::Runway;
+  uint32_t town_lights = default_town_lights();  // LightsChoice::AirportTown's town, [0, max_town_lights()]
   host_scene::DepthConvention depth_convention = host_scene::DepthConvention::Reversed;
   double ev100 = 15.0;
   double vfov_deg = 60.0;

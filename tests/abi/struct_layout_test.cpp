@@ -27,7 +27,9 @@ TEST(StructLayout, Version1SizesAreFrozen) {
   EXPECT_EQ(sizeof(AtmoLightsUpdate), V1Size<AtmoLightsUpdate>::value);
   // AtmoFogLighting grew at its end (the clusters); a 136-byte host gets light_count 0 (its include predates them).
   EXPECT_EQ(V1Size<AtmoFogLighting>::value, 136u);
-  EXPECT_EQ(sizeof(AtmoFogLighting), 400u);
+  // ... then again (the translucent surfaces' fields): a 400-byte host keeps its surfaces' lights.
+  EXPECT_EQ(offsetof(AtmoFogLighting, airlight_table), 400u);
+  EXPECT_EQ(sizeof(AtmoFogLighting), 568u);
   EXPECT_EQ(sizeof(AtmoCloudShadows), V1Size<AtmoCloudShadows>::value);
   EXPECT_EQ(sizeof(AtmoCloudLayer), V1Size<AtmoCloudLayer>::value);
   // AtmoCloudsState grew at its end (impostor settings); 80-byte hosts get the defaults.

@@ -59,6 +59,24 @@ void main() {
 }
 )";
 
+// A translucent surface (ATMO_PASS_LIGHT_GLOWS drawn first): each pixel the point `distance` metres along its
+// ray, its own light `own` (cd/m^2) through atmo_fog_translucent; alpha holds the transmittance.
+const char* kTranslucentMain = R"(
+uniform mat4 rel_from_clip;
+uniform vec2 size;
+uniform float distance;
+uniform vec3 own;
+out vec4 colour;
+void main() {
+  vec2 ndc = gl_FragCoord.xy / size * 2.0 - 1.0;
+  vec4 a = rel_from_clip * vec4(ndc, -1.0, 1.0);
+  vec4 b = rel_from_clip * vec4(ndc, 1.0, 1.0);
+  vec3 dir = normalize(b.xyz / b.w - a.xyz / a.w);
+  vec4 f = atmo_fog_translucent(dir * distance);
+  colour = vec4(own * f.a + f.rgb, f.a);
+}
+)";
+
 glm::dmat4 rel_from_clip() { return glm::inverse(kProjection * look(0.0, kPitchDeg)); }
 
 // The ground point of window pixel (x, y) (GL order) relative to the eye, or false where it sees sky.
@@ -189,15 +207,16 @@ struct Scene {
     f.context->set_lights(atmo::lights_state(0, lights, 47.26, 11.35, 0.0));
   }
 
-  // The host shader's image, and the AtmoFogLighting it was drawn with.
-  atmo::support::Image draw(AtmoFogLighting* fl) {
+  // The host shader's image (`main_source` after the include), and the AtmoFogLighting it was drawn with.
+  atmo::support::Image draw(AtmoFogLighting* fl, const char* main_source = kFragmentMain, float distance = 0.0f,
+                            glm::vec3 own = glm::vec3(0.0f)) {
     *fl = atmo::make<AtmoFogLighting>(ATMO_TYPE_FOG_LIGHTING);
     EXPECT_EQ(f.plugin->api().get_fog_lighting(f.view->handle(), fl), ATMO_SUCCESS) << f.context->last_error();
     const std::string include =
         read_text(std::string(ATMO_SOURCE_DIR) + "/host_sdk/include/atmo/atmo_fog_lights.glsl");
     GLuint program = glCreateProgram();
     GLuint vs = compile(GL_VERTEX_SHADER, kVertex);
-    GLuint fs = compile(GL_FRAGMENT_SHADER, "#version 330 core\n" + include + kFragmentMain);
+    GLuint fs = compile(GL_FRAGMENT_SHADER, "#version 330 core\n" + include + main_source);
     glAttachShader(program, vs);
     glAttachShader(program, fs);
     glLinkProgram(program);
@@ -212,6 +231,8 @@ struct Scene {
     glUniformMatrix4fv(glGetUniformLocation(program, "rel_from_clip"), 1, GL_FALSE, glm::value_ptr(m));
     glUniform1f(glGetUniformLocation(program, "eye_height"), float(kEyeHeightM));
     glUniform2f(glGetUniformLocation(program, "size"), float(kW), float(kH));
+    glUniform1f(glGetUniformLocation(program, "distance"), distance);
+    glUniform3fv(glGetUniformLocation(program, "own"), 1, &own[0]);
     atmo::support::Image img;
     {
       const atmo::host_scene::FogLightingBinding binding(program, *fl, 0);
@@ -407,6 +428,100 @@ TEST(FogHostInclude, SurfacesAtScaleAgainstEveryLight) {
       EXPECT_LT(median, 0.045);
       EXPECT_LT(p95, 0.09);
       EXPECT_NEAR(sum_got / sum_want, 1.0, 0.02);
+    }
+  }
+}
+
+// Translucent surfaces (atmo_fog_translucent): a surface 120 m along every ray, drawn after the glow pass, in
+// RVR 300 m fog: its own light through the fog plus the fog's light in front of it, against the brute force
+// (the fog's transmittance, the medium's light, and every light's whole glow up to the surface by the twin,
+// which no list or tile limits): exact for a few lights (each in its tile's list), within what the merging
+// loses for many.
+TEST(FogHostInclude, TranslucentSurfacesGetTheFogAndGlowsInFrontOfThem) {
+  const double visibility = 300.0;
+  const float distance = 120.0f;
+  const glm::vec3 own(0.5f, 0.4f, 0.3f);
+  for (const int count : {3, 400}) {
+    Scene s;
+    s.f.context->set_fog(fog_of(visibility));
+    std::vector<AtmoLightPoint> lights;
+    uint64_t state = 5;
+    auto uniform = [&]() {
+      state = state * 6364136223846793005ull + 1442695040888963407ull;
+      return double(state >> 11) * 0x1.0p-53;
+    };
+    if (count == 3) {
+      lights = {atmo::omni_light(-15.0, 60.0, 4.0, 4e3), atmo::omni_light(20.0, 200.0, 8.0, 2e4),
+                atmo::omni_light(0.0, 90.0, 1.0, 3e4)};
+      lights[2].direction[1] = -1.0;  // a beam towards the eye
+      lights[2].cone_inner_rad = glm::radians(10.0);
+      lights[2].cone_outer_rad = glm::radians(30.0);
+    } else {
+      for (int i = 0; i < count; ++i)
+        lights.push_back(atmo::omni_light(-150.0 + 300.0 * uniform(), 30.0 + 400.0 * uniform(), 1.0 + 15.0 * uniform(),
+                                          200.0 + 5000.0 * uniform()));
+    }
+    s.set_lights(lights);
+    // The glow pass fills the glow textures the include reads.
+    s.target->bind();
+    glViewport(0, 0, kW, kH);
+    ASSERT_EQ(s.f.view->render(ATMO_PASS_LIGHT_GLOWS), ATMO_SUCCESS) << s.f.context->last_error();
+    AtmoFogLighting fl;
+    const atmo::support::Image img = s.draw(&fl, kTranslucentMain, distance, own);
+    ASSERT_GT(fl.glow_grid[0], 0.0);
+    ASSERT_NE(fl.glow_entries, 0u);
+    const atmo::fog::FogTable table = atmo::fog::build_airlight_table(int(fl.glow_grid[2]), 0.85);
+    glm::mat3 flux, enu_from_world;
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) {
+        flux[c][r] = float(fl.flux[c * 3 + r]);
+        enu_from_world[c][r] = float(fl.enu_from_world[c * 3 + r]);
+      }
+    const float beta = float(fl.medium[0]), albedo = float(fl.medium[1]);
+    std::vector<double> errors;
+    double sum_got = 0.0, sum_want = 0.0, worst_t = 0.0;
+    for (int y = 1; y < kH; y += 2)
+      for (int x = 1; x < kW; x += 2) {
+        const glm::dvec2 ndc((x + 0.5) / kW * 2.0 - 1.0, (y + 0.5) / kH * 2.0 - 1.0);
+        const glm::dmat4 m = rel_from_clip();
+        const glm::dvec4 a = m * glm::dvec4(ndc, -1.0, 1.0), b = m * glm::dvec4(ndc, 1.0, 1.0);
+        const glm::vec3 dir = enu_from_world * glm::vec3(glm::normalize(glm::dvec3(b) / b.w - glm::dvec3(a) / a.w));
+        const float t = twin::atmo_fog_transmittance(beta, distance);
+        glm::vec3 want = own * t + twin::atmo_fog_medium_light(t, glm::vec3(fl.ambient[0], fl.ambient[1], fl.ambient[2]),
+                                                               glm::vec3(fl.fluence[0], fl.fluence[1], fl.fluence[2]),
+                                                               flux, dir);
+        for (const AtmoLightPoint& light : lights) {
+          const glm::vec3 p(light.position_m[0], light.position_m[1], light.position_m[2] - kEyeHeightM);
+          const bool cone_light = light.cone_outer_rad > 0.0;
+          const glm::vec3 axis = cone_light ? glm::normalize(glm::vec3(light.direction[0], light.direction[1],
+                                                                       light.direction[2]))
+                                            : glm::vec3(0.0f, 0.0f, 1.0f);
+          const float ci = cone_light ? std::cos(float(light.cone_inner_rad)) : -2.0f;
+          const float co = cone_light ? std::cos(float(light.cone_outer_rad)) : -2.0f;
+          want += albedo * float(light.intensity_cd) *
+                  twin::atmo_fog_glow(table, float(fl.glow_grid[2]), beta, p, dir, axis, ci, co, 1.0f, distance,
+                                      float(fl.glow_grid[3]));
+        }
+        const float* got = img.pixel(x, kH - 1 - y);
+        worst_t = std::max(worst_t, double(std::abs(got[3] - t)));
+        const double w = atmo::support::luminance(&want[0]), g = atmo::support::luminance(got);
+        errors.push_back(std::abs(g - w) / w);
+        sum_got += g;
+        sum_want += w;
+      }
+    std::sort(errors.begin(), errors.end());
+    const double median = errors[errors.size() / 2], p95 = errors[errors.size() * 95 / 100], worst = errors.back();
+    std::printf("%d lights, a translucent surface at %.0f m in RVR %.0f m fog (T %.3f): against the brute force, "
+                "relative error median %.4f, 95th percentile %.4f, worst %.3f, total %.4f; transmittance off by "
+                "%.1e at worst\n",
+                count, distance, visibility, twin::atmo_fog_transmittance(beta, distance), median, p95, worst,
+                sum_got / sum_want, worst_t);
+    EXPECT_LT(worst_t, 1e-5);
+    if (count == 3) {  // every light exact in its tile's list
+      EXPECT_LT(worst, 0.01);
+    } else {  // the tiles' merged glows (docs/FOG.md "Glows at scale")
+      EXPECT_LT(median, 0.05);
+      EXPECT_NEAR(sum_got / sum_want, 1.0, 0.05);
     }
   }
 }

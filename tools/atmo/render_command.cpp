@@ -8,8 +8,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <utility>
 
 #include "atmo/atmo.hpp"
 #include "atmo_host_scene/camera.h"
@@ -232,11 +234,17 @@ int run_render(const Options& options) {
                   cam.width, cam.height, sun_elevation_deg, glm::degrees(lighting.sun_azimuth_rad), ev100,
                   hs::to_string(depth));
 
-      std::vector<PassTiming> timings = {{"terrain (host)", {}, ""}, {"sky", {}, ""}, {"aerial perspective", {}, ""},
-                                         {"night sky", {}, ""}, {"clouds", {}, ""}, {"light glows", {}, ""}};
-      // The night sky before the clouds, which hide the stars.
-      const AtmoPass passes[] = {ATMO_PASS_SKY, ATMO_PASS_AERIAL_PERSPECTIVE, ATMO_PASS_NIGHT_SKY, ATMO_PASS_CLOUDS,
-                                 ATMO_PASS_LIGHT_GLOWS};
+      // The night sky before the clouds, which hide the stars; the light points after the glows (they carry
+      // their own fog, atmo.h), so the glow pass's fog does not dim them twice. Passes with nothing to draw
+      // (no clouds, no fog, no light above the eye's threshold) return NOTHING_TO_DRAW and cost nothing.
+      const std::pair<AtmoPass, const char*> passes[] = {{ATMO_PASS_SKY, "sky"},
+                                                         {ATMO_PASS_AERIAL_PERSPECTIVE, "aerial perspective"},
+                                                         {ATMO_PASS_NIGHT_SKY, "night sky"},
+                                                         {ATMO_PASS_CLOUDS, "clouds"},
+                                                         {ATMO_PASS_LIGHT_GLOWS, "light glows"},
+                                                         {ATMO_PASS_LIGHT_POINTS, "light points"}};
+      std::vector<PassTiming> timings = {{"terrain (host)", {}, ""}};  // then one row per pass
+      for (const auto& pass : passes) timings.push_back({pass.second, {}, ""});
       PassTimer timer;
       for (int rep = 0; rep < options.repeat; ++rep) {
         target->bind();
@@ -255,12 +263,12 @@ int run_render(const Options& options) {
           timings[0].query_ms = timer.last_query_ms();
         }
         const bool stars = !scenario.night_sky || scenario.night_sky->stars;
-        for (size_t p = 0; p < 5; ++p) {
-          if (passes[p] == ATMO_PASS_NIGHT_SKY && !stars) {
+        for (size_t p = 0; p < std::size(passes); ++p) {
+          if (passes[p].first == ATMO_PASS_NIGHT_SKY && !stars) {
             timings[p + 1].status = "left out (night_sky.stars: false)";
             continue;
           }
-          AtmoResult r = timer.time([&] { return view.render(passes[p]); });
+          AtmoResult r = timer.time([&] { return view.render(passes[p].first); });
           timings[p + 1].ms.push_back(timer.last_ms());
           timings[p + 1].query_ms = timer.last_query_ms();
           timings[p + 1].status = plugin.result_string(r);

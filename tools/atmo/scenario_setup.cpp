@@ -1,10 +1,13 @@
 #include "scenario_setup.h"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 #include <glm/glm.hpp>
 
 #include "atmo/atmo.hpp"
+#include "atmo_host_scene/light_layouts.h"
 
 namespace atmo::render {
 
@@ -28,10 +31,36 @@ hs::Geodetic to_host(const sc::GeodeticPoint& g) { return {g.latitude_deg, g.lon
 
 hs::Geodetic origin_of(const sc::Scenario& s) { return to_host(s.location); }
 
+hs::AirportSpec airport_spec_of(const sc::AirportLights& a) {
+  hs::AirportSpec spec;
+  spec.runways.clear();
+  for (const sc::AirportRunway& r : a.runways)
+    spec.runways.push_back({{r.centre_enu_m[0], r.centre_enu_m[1]}, r.heading_deg, r.length_m, r.width_m});
+  spec.taxiway_length_m = a.taxiway_length_m;
+  return spec;
+}
+
+hs::TownSpec town_spec_of(const sc::TownLights& t) {
+  hs::TownSpec spec;
+  spec.centre_enu_m = {t.centre_enu_m[0], t.centre_enu_m[1]};
+  spec.lights = t.lights;
+  spec.lights_per_km2 = t.lights_per_km2;
+  spec.seed = t.seed;
+  return spec;
+}
+
 std::vector<AtmoLightPoint> light_points_of(const sc::Scenario& s, const hs::Terrain& terrain) {
   std::vector<AtmoLightPoint> points;
   if (!s.lights) return points;
   if (s.lights->runway_approach) points = terrain.atmo_light_points();
+  if (s.lights->airport) {
+    const std::vector<AtmoLightPoint> airport = hs::airport_lights(airport_spec_of(*s.lights->airport));
+    points.insert(points.end(), airport.begin(), airport.end());
+  }
+  if (s.lights->town) {
+    const std::vector<AtmoLightPoint> town = hs::town_lights(town_spec_of(*s.lights->town));
+    points.insert(points.end(), town.begin(), town.end());
+  }
   for (const sc::LightPoint& l : s.lights->points) {
     AtmoLightPoint p{};
     for (int k = 0; k < 3; ++k) {
@@ -41,6 +70,11 @@ std::vector<AtmoLightPoint> light_points_of(const sc::Scenario& s, const hs::Ter
     p.intensity_cd = l.intensity_cd;
     points.push_back(p);
   }
+  // set_lights would refuse them all; say which file section asks for too many.
+  if (points.size() > ATMO_LIGHTS_MAX)
+    throw std::runtime_error(s.source_file + ": /lights: " + std::to_string(points.size()) +
+                             " lights in all (runway, airport, town and points), more than set_lights takes (" +
+                             std::to_string(ATMO_LIGHTS_MAX) + ")");
   return points;
 }
 

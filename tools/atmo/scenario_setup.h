@@ -1,9 +1,10 @@
 // scenario_setup.h — what `atmo render` hands the plugin and the host scene for
 // a scenario, as plain data: the terrain's options, the light list (the
-// runway's generated lights and the file's own points), the fog state and a
-// camera's view setup. One place, so a test that recomputes a render's light
-// from the same inputs (tests/render/runway_fog_night_test.cpp) uses exactly
-// what the render used.
+// runway's generated lights, the airport and town layouts and the file's own
+// points), the fog state and a camera's view setup. One place, so a test that
+// recomputes a render's light from the same inputs
+// (tests/render/runway_fog_night_test.cpp, airport_night_test.cpp) uses
+// exactly what the render used.
 #pragma once
 
 #include <cstddef>
@@ -12,6 +13,7 @@
 
 #include "atmo/atmo.h"
 #include "atmo_host_scene/camera.h"
+#include "atmo_host_scene/light_layouts.h"
 #include "atmo_host_scene/terrain.h"
 #include "atmo_scenario/scenario.h"
 
@@ -24,9 +26,14 @@ host_scene::Geodetic to_host(const scenario::GeodeticPoint& g);
 // The ENU origin of the scenario's world frame.
 host_scene::Geodetic origin_of(const scenario::Scenario& s);
 
-// set_lights' light list, ENU at origin_of(s): the runway's approach,
-// threshold and edge lights when asked for (beamed along the approach), then
-// the file's own points (omnidirectional). Empty without a "lights" block.
+// The host-scene layouts a scenario's "lights" block asks for.
+host_scene::AirportSpec airport_spec_of(const scenario::AirportLights& a);
+host_scene::TownSpec town_spec_of(const scenario::TownLights& t);
+
+// set_lights' light list, ENU at origin_of(s): the terrain runway's approach,
+// threshold and edge lights when asked for (beamed along the approach), the
+// airport's lights, the town's, then the file's own points (omnidirectional).
+// Empty without a "lights" block; throws (naming /lights) past ATMO_LIGHTS_MAX.
 std::vector<AtmoLightPoint> light_points_of(const scenario::Scenario& s, const host_scene::Terrain& terrain);
 
 // set_atmosphere's and set_frame's states: the file's air and its UTC.

@@ -751,6 +751,20 @@ typedef struct AtmoFogLighting {
   double cluster_grid_size[4];  /* for atmo_fog_cluster_grid_size */
   double cluster_range[2];      /* for atmo_fog_cluster_range */
   double enu_from_world[9];     /* for atmo_fog_enu_from_world (column-major 3x3: the eye's ENU axes) */
+  /* --- Grew after the clusters: the fog and glows in front of the host's translucent surfaces
+     (atmo_fog_translucent; docs/FOG.md "Translucent surfaces"). The glow textures hold what the view's
+     last ATMO_PASS_LIGHT_GLOWS drew: draw a view's translucent surfaces after its glow pass. --- */
+  uint32_t airlight_table;      /* GL_TEXTURE_2D R32F, linear: for atmo_fog_airlight_table */
+  uint32_t glow_tiles;          /* GL_TEXTURE_2D RG32UI: per screen tile its first glow in glow_lists, its count */
+  uint32_t glow_lists;          /* GL_TEXTURE_2D R32UI: glows (indices into glow_entries), 4096 a row */
+  uint32_t glow_entries;        /* GL_TEXTURE_2D RGBA32F: 4 texels a glow, 256 a row (ENU relative to the eye) */
+  double glow_grid[4];          /* for atmo_fog_glow_grid: tiles across, tiles up, airlight table size, the
+                                   pixel's floor of sin gamma */
+  double ambient[3];            /* for atmo_fog_ambient: the sky's, Sun's and Moon's light the fog scatters,
+                                   cd/m^2 (isotropic) */
+  double fluence[3];            /* for atmo_fog_fluence: the lights' diffusion fluence at the eye */
+  double flux[9];               /* for atmo_fog_flux (column-major 3x3; column c: channel c's flux towards the
+                                   lights, ENU) */
 } AtmoFogLighting;
 
 /* ------------------------------------------------------------------------ */

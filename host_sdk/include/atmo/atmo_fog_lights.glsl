@@ -327,6 +327,28 @@ ATMO_FOG_FN vec4 atmo_fog_cluster_of(vec4 clip, float distance, vec4 grid, vec2 
 }
 
 #ifndef ATMO_TWIN
+// The summed glows (cd/m^2 per channel, intensities times the albedo) of one
+// screen tile's list along the unit ENU direction dir up to d_vp metres,
+// sin gamma floored at min_sin: the list's entries index the glows texture
+// (4 RGBA32F texels a glow, 256 a row: position relative to the eye (ENU m)
+// and extinction; intensity x albedo and cos_inner; cone axis and cos_outer;
+// lobes). The plugin's glow pass and atmo_fog_translucent share it.
+vec3 atmo_fog_tile_glows(sampler2D table, float table_size, usampler2D lists, sampler2D glows, uint first,
+                         uint count, vec3 dir, float d_vp, float min_sin) {
+  vec3 sum = vec3(0.0);
+  for (uint j = 0u; j < count; ++j) {
+    uint entry = first + j;
+    int i = int(texelFetch(lists, ivec2(int(entry % 4096u), int(entry / 4096u)), 0).r);
+    ivec2 at = ivec2(4 * (i % 256), i / 256);
+    vec4 t0 = texelFetch(glows, at, 0);
+    vec4 t1 = texelFetch(glows, at + ivec2(1, 0), 0);
+    vec4 t2 = texelFetch(glows, at + ivec2(2, 0), 0);
+    vec4 t3 = texelFetch(glows, at + ivec2(3, 0), 0);
+    sum += t1.rgb * atmo_fog_glow(table, table_size, t0.w, t0.xyz, dir, t2.xyz, t1.w, t2.w, t3.x, d_vp, min_sin);
+  }
+  return sum;
+}
+
 #ifndef ATMO_FOG_NO_UNIFORMS
 uniform sampler2D atmo_fog_surface_table;
 // The clusters' lights, each cluster's together: 3 texels a light, 1024 lights a row (see below).
@@ -393,6 +415,54 @@ vec3 atmo_fog_lights_surface(vec3 position_rel_eye_m, vec3 normal, vec3 kd, vec3
            n.z * n.z * texture(atmo_fog_far_field, vec3(uv, (k + face.z * slices) / (6.0 * slices))).rgb;
   sum += kd * e;
   return sum;
+}
+
+// TRANSLUCENT SURFACES (glass, water, smoke, a canopy): the plugin's fog and
+// glows are drawn over the OPAQUE depth, so a host draws its translucent
+// surfaces after ATMO_PASS_LIGHT_GLOWS (and ATMO_PASS_LIGHT_POINTS), each
+// with the fog between it and the eye applied in its own shader:
+//     vec4 f = atmo_fog_translucent(position_rel_eye_m);
+//     colour.rgb = colour.rgb * f.a + f.rgb;   // then blend "over" as usual
+// (its own light, lit or not, times the fog's transmittance f.a, plus the fog's
+// light in front of it f.rgb: the fog's ambient and diffusion light and the
+// lights' glows, cd/m^2). Behind it the plugin's fog and glows are already in
+// the framebuffer and the blend weighs them. Bind, besides the fields above,
+//     fog.airlight_table -> sampler2D  atmo_fog_airlight_table
+//     fog.glow_tiles     -> usampler2D atmo_fog_glow_tiles
+//     fog.glow_lists     -> usampler2D atmo_fog_glow_lists
+//     fog.glow_entries   -> sampler2D  atmo_fog_glow_entries
+//   and set atmo_fog_glow_grid = vec4(fog.glow_grid), atmo_fog_ambient =
+//   vec3(fog.ambient), atmo_fog_fluence = vec3(fog.fluence), atmo_fog_flux =
+//   mat3(fog.flux). Without fog it returns (0, 0, 0, 1). A glow's core in front
+//   of a translucent surface is drawn by the plugin before it, so the blend
+//   dims it (docs/FOG.md "Translucent surfaces").
+uniform sampler2D atmo_fog_airlight_table;
+uniform usampler2D atmo_fog_glow_tiles;
+uniform usampler2D atmo_fog_glow_lists;
+uniform sampler2D atmo_fog_glow_entries;
+uniform vec4 atmo_fog_glow_grid;           // tiles across, up, airlight table size, the pixel's floor of sin gamma
+uniform vec3 atmo_fog_ambient;             // cd/m^2
+uniform vec3 atmo_fog_fluence;
+uniform mat3 atmo_fog_flux;
+
+vec4 atmo_fog_translucent(vec3 position_rel_eye_m) {
+  float d = length(position_rel_eye_m);
+  if (!(d > 0.0) || atmo_fog_medium.x <= 0.0) return vec4(0.0, 0.0, 0.0, 1.0);
+  vec3 dir = atmo_fog_enu_from_world * (position_rel_eye_m / d);
+  float transmittance = atmo_fog_transmittance(atmo_fog_medium.x, atmo_fog_ray_length(d, dir.z, atmo_fog_medium.z));
+  vec3 light = atmo_fog_medium_light(transmittance, atmo_fog_ambient, atmo_fog_fluence, atmo_fog_flux, dir);
+  // The glows of the surface's screen tile, in-scattered up to the surface (or to where the ray leaves the fog).
+  vec4 clip = atmo_fog_cluster_from_position * vec4(position_rel_eye_m, 1.0);
+  if (atmo_fog_glow_grid.x > 0.0 && clip.w > 1.0e-6) {
+    vec2 ndc = clamp(clip.xy / clip.w, -1.0, 1.0);
+    ivec2 tile = ivec2(min(floor((ndc * 0.5 + 0.5) * atmo_fog_glow_grid.xy), atmo_fog_glow_grid.xy - 1.0));
+    uvec2 list = texelFetch(atmo_fog_glow_tiles, tile, 0).xy;
+    float top = atmo_fog_medium.z;
+    float d_vp = top < ATMO_FOG_FAR && top > 0.0 && dir.z > 0.0 ? min(d, top / dir.z) : d;
+    light += atmo_fog_tile_glows(atmo_fog_airlight_table, atmo_fog_glow_grid.z, atmo_fog_glow_lists,
+                                 atmo_fog_glow_entries, list.x, list.y, dir, d_vp, atmo_fog_glow_grid.w);
+  }
+  return vec4(light, transmittance);
 }
 #endif  // ATMO_FOG_NO_UNIFORMS
 #endif  // ATMO_TWIN

@@ -61,6 +61,12 @@ const lights::LightClusters& view_light_clusters(AtmoContext_T* ctx, AtmoView_T*
   return *view->light_clusters;
 }
 
+// The pixel's floor of sin gamma for the view's glows (fog::glow_min_sin).
+double view_glow_min_sin(const AtmoView_T* view) {
+  const double tan_half = 1.0 / std::max(std::abs(view->state.clip_from_view[5]), 1e-12);
+  return fog::glow_min_sin(tan_half, view->state.viewport[3]);
+}
+
 // Tables for the include when there is no fog (it still samples them; the terms they scale are 0).
 const fog::FogTable& no_fog_table() {
   static const fog::FogTable t = [] {
@@ -83,8 +89,7 @@ AtmoResult fog_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& sce
   in.albedo = static_cast<float>(ctx->fog.optics.albedo);
   const core::SkyLighting& sky = view_sky_lighting(ctx, view, scene);
   in.ambient_cd_m2 = glm::vec3(fog::ambient_radiance_cd_m2(ctx->fog.optics, sky, scene, ctx->atmosphere.ground_albedo));
-  const double tan_half = 1.0 / std::max(std::abs(view->state.clip_from_view[5]), 1e-12);
-  in.min_sin = static_cast<float>(fog::glow_min_sin(tan_half, view->state.viewport[3]));
+  in.min_sin = static_cast<float>(view_glow_min_sin(view));
   const lights::GlowTiles glows = lights::bin_glows(frame, *view->light_tree, ctx->fog.airlight, clip_from_enu(view),
                                                     view->state.viewport[2], view->state.viewport[3], in.min_sin);
   in.glows = &glows;
@@ -195,11 +200,46 @@ AtmoResult set_light_group_pose(AtmoContext context, const AtmoLightGroupPose* p
                       });
 }
 
+// The fields for the host's translucent surfaces (atmo_fog_translucent): the fog's medium and light, and the
+// glows its view's glow pass last drew (with or without lights: a translucent surface in fog is fogged).
+void fill_translucent_fields(AtmoContext_T* ctx, AtmoView_T* view, AtmoFogLighting* f) {
+  if (!ctx->fog.enabled()) return;
+  const core::Scene scene = prepare_scene(ctx, *view);
+  const core::SkyLighting& sky = view_sky_lighting(ctx, view, scene);
+  const glm::dvec3 ambient = fog::ambient_radiance_cd_m2(ctx->fog.optics, sky, scene, ctx->atmosphere.ground_albedo);
+  const fog::FogFrame& frame = view_fog_frame(ctx, view);
+  std::string error;
+  ctx->fog_renderer.upload_tables(ctx->fog.airlight, ctx->fog.surface, ctx->fog.version, &error);
+  ctx->fog_renderer.ensure_glow_textures();
+  f->medium[0] = ctx->fog.optics.extinction_per_m;
+  f->medium[1] = ctx->fog.optics.albedo;
+  f->medium[2] = frame.top_above_eye_m;
+  f->airlight_table = ctx->fog_renderer.airlight_table();
+  f->glow_tiles = ctx->fog_renderer.glow_tiles();
+  f->glow_lists = ctx->fog_renderer.glow_lists();
+  f->glow_entries = ctx->fog_renderer.glow_entries();
+  const lights::ClusterGrid grid = lights::ClusterGrid::for_view(clip_from_enu(view), view->state.viewport[2],
+                                                                 view->state.viewport[3],
+                                                                 lights::ClusterGrid::kGlowTilePx);
+  const bool glows = !frame.lights.empty();
+  f->glow_grid[0] = glows ? grid.tiles_x : 0;
+  f->glow_grid[1] = glows ? grid.tiles_y : 0;
+  f->glow_grid[2] = ctx->fog.airlight.width;
+  f->glow_grid[3] = view_glow_min_sin(view);
+  for (int i = 0; i < 3; ++i) {
+    f->ambient[i] = ambient[i];
+    f->fluence[i] = frame.fluence[i];
+  }
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) f->flux[c * 3 + r] = frame.flux_towards_lights[c][r];
+}
+
 AtmoResult get_fog_lighting(AtmoView view_handle, AtmoFogLighting* out) {
   return view_output_call(
       view_handle, "get_fog_lighting", out, ATMO_TYPE_FOG_LIGHTING, "AtmoFogLighting", true,
       [&](AtmoContext_T* ctx, AtmoView_T* view, AtmoFogLighting& f) -> AtmoResult {
         std::memset(reinterpret_cast<char*>(&f) + sizeof(f.header), 0, sizeof(f) - sizeof(f.header));
+        fill_translucent_fields(ctx, view, &f);
         if (ctx->lights.empty()) return ATMO_STATUS_NOTHING_TO_DRAW;
         if (out->header.struct_size < offsetof(AtmoFogLighting, cluster_grid) + sizeof(f.cluster_grid)) {
           // An include from before the clusters reads the lights in another layout: give it none.

@@ -13,14 +13,19 @@ constexpr Sampler kSamplers[FogLightingBinding::kUnits] = {
     {"atmo_fog_surface_table", GL_TEXTURE_2D, GL_TEXTURE_BINDING_2D},
     {"atmo_fog_light_texture", GL_TEXTURE_2D, GL_TEXTURE_BINDING_2D},
     {"atmo_fog_cluster_grid", GL_TEXTURE_2D, GL_TEXTURE_BINDING_2D},
-    {"atmo_fog_far_field", GL_TEXTURE_3D, GL_TEXTURE_BINDING_3D}};
+    {"atmo_fog_far_field", GL_TEXTURE_3D, GL_TEXTURE_BINDING_3D},
+    {"atmo_fog_airlight_table", GL_TEXTURE_2D, GL_TEXTURE_BINDING_2D},
+    {"atmo_fog_glow_tiles", GL_TEXTURE_2D, GL_TEXTURE_BINDING_2D},
+    {"atmo_fog_glow_lists", GL_TEXTURE_2D, GL_TEXTURE_BINDING_2D},
+    {"atmo_fog_glow_entries", GL_TEXTURE_2D, GL_TEXTURE_BINDING_2D}};
 
 }  // namespace
 
 FogLightingBinding::FogLightingBinding(GLuint program, const AtmoFogLighting& fog, int first_unit)
     : first_unit_(first_unit) {
   glGetIntegerv(GL_ACTIVE_TEXTURE, &active_);
-  const GLuint textures[kUnits] = {fog.surface_table, fog.light_texture, fog.cluster_grid, fog.far_field};
+  const GLuint textures[kUnits] = {fog.surface_table,  fog.light_texture, fog.cluster_grid, fog.far_field,
+                                   fog.airlight_table, fog.glow_tiles,    fog.glow_lists,   fog.glow_entries};
   for (int u = 0; u < kUnits; ++u) {
     glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(first_unit + u));
     glGetIntegerv(kSamplers[u].binding, &previous_[u]);
@@ -45,6 +50,15 @@ FogLightingBinding::FogLightingBinding(GLuint program, const AtmoFogLighting& fo
               float(fog.up_world[2]));
   glUniform2f(glGetUniformLocation(program, "atmo_fog_surface_table_size"), float(fog.surface_table_size[0]),
               float(fog.surface_table_size[1]));
+  glUniform4f(glGetUniformLocation(program, "atmo_fog_glow_grid"), float(fog.glow_grid[0]), float(fog.glow_grid[1]),
+              float(fog.glow_grid[2]), float(fog.glow_grid[3]));
+  glUniform3f(glGetUniformLocation(program, "atmo_fog_ambient"), float(fog.ambient[0]), float(fog.ambient[1]),
+              float(fog.ambient[2]));
+  glUniform3f(glGetUniformLocation(program, "atmo_fog_fluence"), float(fog.fluence[0]), float(fog.fluence[1]),
+              float(fog.fluence[2]));
+  float flux[9];
+  for (int k = 0; k < 9; ++k) flux[k] = static_cast<float>(fog.flux[k]);
+  glUniformMatrix3fv(glGetUniformLocation(program, "atmo_fog_flux"), 1, GL_FALSE, flux);
 }
 
 FogLightingBinding::~FogLightingBinding() {

@@ -644,7 +644,7 @@ void Terrain::draw(const ViewSetup& view, const SceneLighting& lighting, const A
   const GLuint surface = fogged ? fog_program_[variant] : surface_program_[variant];
   glUseProgram(surface);
   set_common_uniforms(surface, clip_from_rel, eye_hi, eye_lo, view);
-  // atmo_fog_lights.glsl's inputs, as its header says (units 0-3, restored when it goes).
+  // atmo_fog_lights.glsl's inputs, as its header says (units 0-7, restored when it goes).
   std::optional<FogLightingBinding> fog_binding;
   if (fogged) fog_binding.emplace(surface, *fog, 0);
   glUniform3fv(glGetUniformLocation(surface, "u_sun_dir"), 1, &sun_dir[0]);

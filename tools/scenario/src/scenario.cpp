@@ -37,7 +37,10 @@ const std::vector<ObjectShape> kShapes = {
      {"type", "coverage_oktas", "base_m", "top_m", "area_m", "seed", "vdb_file", "position", "scale",
       "heading_deg", "density_scale"}},
     {"fog", {"visibility_m", "top_m"}},
-    {"lights", {"runway_approach", "points"}},
+    {"lights", {"runway_approach", "airport", "town", "points"}},
+    {"airport_lights", {"runways", "taxiway_length_m"}},
+    {"airport_runway", {"centre_enu_m", "heading_deg", "length_m", "width_m"}},
+    {"town_lights", {"centre_enu_m", "lights", "lights_per_km2", "seed"}},
     {"light_point", {"enu_m", "intensity_cd", "color"}},
     {"night_sky", {"stars", "moon"}},
     {"render", {"depth_convention", "exposure_ev100", "output", "cloud_draw_mode"}},
@@ -114,7 +117,7 @@ class Loader {
       fog(*v, r.child("fog"), &s->fog.emplace());
     }
     if (const json* v = r.field("lights", false, "")) {
-      lights(*v, r.child("lights"), &s->lights.emplace());
+      lights(*v, r.child("lights"), s->terrain, &s->lights.emplace());
     }
     if (const json* v = r.field("night_sky", false, "")) {
       night_sky(*v, r.child("night_sky"), &s->night_sky.emplace());
@@ -161,14 +164,14 @@ class Loader {
     if (auto x = r.number("height_m", kHeight, std::nullopt)) g->height_m = *x;
   }
 
-  void vec3(const json& v, const std::string& ptr, const Range& range,
-            std::array<double, 3>* out) {
+  template <size_t N>
+  void vec(const json& v, const std::string& ptr, const Range& range, std::array<double, N>* out) {
     const std::string each = range.text().empty() ? "numbers" : "numbers " + range.text();
-    if (!v.is_array() || v.size() != 3) {
-      errors_.expected(ptr, "an array of 3 " + each, v);
+    if (!v.is_array() || v.size() != N) {
+      errors_.expected(ptr, "an array of " + std::to_string(N) + " " + each, v);
       return;
     }
-    for (size_t i = 0; i < 3; ++i) {
+    for (size_t i = 0; i < N; ++i) {
       if (auto x = detail::read_number(errors_, v[i], ptr + "/" + std::to_string(i), range)) {
         (*out)[i] = *x;
       }
@@ -187,7 +190,7 @@ class Loader {
     }
     if (enu) {
       p->kind = Position::Kind::Enu;
-      vec3(*enu, r.child("enu_m"), Range::any(), &p->enu_m);
+      vec<3>(*enu, r.child("enu_m"), Range::any(), &p->enu_m);
     }
     if (geo) {
       p->kind = Position::Kind::Geodetic;
@@ -334,9 +337,11 @@ class Loader {
     if (auto x = r.number("top_m", Range{0.0, 3000.0, true, false}, std::nullopt)) f->top_m = *x;
   }
 
-  void lights(const json& v, const std::string& ptr, Lights* l) {
+  void lights(const json& v, const std::string& ptr, const std::optional<Terrain>& terrain, Lights* l) {
     ObjectReader r(errors_, v, ptr, shape("lights"), "lights");
     if (auto x = r.boolean("runway_approach", false)) l->runway_approach = *x;
+    if (const json* a = r.field("airport", false, "")) airport(*a, r.child("airport"), terrain, &l->airport.emplace());
+    if (const json* t = r.field("town", false, "")) town(*t, r.child("town"), &l->town.emplace());
     const json* points = r.field("points", false, "");
     if (!points) return;
     if (!points->is_array()) {
@@ -349,14 +354,55 @@ class Loader {
                       shape("light_point"), "light point");
       if (!pr.valid()) continue;
       if (const json* e = pr.field("enu_m", true, "an array of 3 numbers")) {
-        vec3(*e, pr.child("enu_m"), Range::any(), &p.enu_m);
+        vec<3>(*e, pr.child("enu_m"), Range::any(), &p.enu_m);
       }
       if (auto x = pr.number("intensity_cd", Range::above(0), std::nullopt)) p.intensity_cd = *x;
       if (const json* c = pr.field("color", false, "")) {
-        vec3(*c, pr.child("color"), Range::closed(0, 1), &p.color);
+        vec<3>(*c, pr.child("color"), Range::closed(0, 1), &p.color);
       }
       l->points.push_back(p);
     }
+  }
+
+  // Limits: real runways (ICAO codes 1-4 run ~800-5 500 m long, 18-60 m wide) with a margin; the layout's
+  // taxiways sit 180 m beside the first runway.
+  void airport(const json& v, const std::string& ptr, const std::optional<Terrain>& terrain, AirportLights* a) {
+    ObjectReader r(errors_, v, ptr, shape("airport_lights"), "airport lights");
+    if (!r.valid()) return;
+    if (auto x = r.number("taxiway_length_m", Range::closed(0, 50000), 8000.0)) a->taxiway_length_m = *x;
+    const json* runways = r.field("runways", false, "");
+    if (!runways) {
+      // The terrain's runway (terrain.cpp: centred on the origin, 3000 x 45 m, along its heading).
+      AirportRunway on_terrain;
+      on_terrain.heading_deg = terrain ? terrain->runway_heading_deg : 90.0;
+      a->runways.push_back(on_terrain);
+      return;
+    }
+    if (!runways->is_array() || runways->empty() || runways->size() > 8) {
+      errors_.expected(r.child("runways"), "an array of 1 to 8 runways", *runways);
+      return;
+    }
+    for (size_t i = 0; i < runways->size(); ++i) {
+      AirportRunway w;
+      ObjectReader rr(errors_, (*runways)[i], r.child("runways") + "/" + std::to_string(i), shape("airport_runway"),
+                      "runway");
+      if (!rr.valid()) continue;
+      if (const json* c = rr.field("centre_enu_m", false, "")) vec<2>(*c, rr.child("centre_enu_m"), Range::any(), &w.centre_enu_m);
+      if (auto x = rr.number("heading_deg", Range::closed(0, 360), 90.0)) w.heading_deg = *x;
+      if (auto x = rr.number("length_m", Range::closed(300, 6000), 3000.0)) w.length_m = *x;
+      if (auto x = rr.number("width_m", Range::closed(10, 100), 45.0)) w.width_m = *x;
+      a->runways.push_back(w);
+    }
+  }
+
+  void town(const json& v, const std::string& ptr, TownLights* t) {
+    ObjectReader r(errors_, v, ptr, shape("town_lights"), "town lights");
+    if (!r.valid()) return;
+    if (const json* c = r.field("centre_enu_m", false, "")) vec<2>(*c, r.child("centre_enu_m"), Range::any(), &t->centre_enu_m);
+    // At most what set_lights takes in all (ATMO_LIGHTS_MAX).
+    if (auto x = r.integer("lights", 1, 65536, 10000)) t->lights = static_cast<std::uint32_t>(*x);
+    if (auto x = r.number("lights_per_km2", Range::closed(10, 100000), 1300.0)) t->lights_per_km2 = *x;
+    if (auto x = r.integer("seed", 0, kMaxSeed, 1)) t->seed = static_cast<std::uint64_t>(*x);
   }
 
   void night_sky(const json& v, const std::string& ptr, NightSky* n) {

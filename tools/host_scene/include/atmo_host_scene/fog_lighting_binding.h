@@ -1,6 +1,6 @@
 // fog_lighting_binding.h — what a host does with an AtmoFogLighting before
-// drawing surfaces whose shader includes atmo_fog_lights.glsl: its four
-// textures on four texture units and its uniforms, as the include's header
+// drawing surfaces whose shader includes atmo_fog_lights.glsl: its eight
+// textures on eight texture units and its uniforms, as the include's header
 // says. Scoped: the units' earlier bindings and the active unit come back on
 // destruction. The terrain, the tests and the benchmarks share it.
 #ifndef ATMO_HOST_SCENE_FOG_LIGHTING_BINDING_H
@@ -14,13 +14,13 @@ namespace atmo::host_scene {
 
 class FogLightingBinding {
  public:
-  // `program` must be in use; units first_unit .. first_unit + 3 are taken.
+  // `program` must be in use; units first_unit .. first_unit + kUnits - 1 are taken.
   FogLightingBinding(GLuint program, const AtmoFogLighting& fog, int first_unit);
   ~FogLightingBinding();
   FogLightingBinding(const FogLightingBinding&) = delete;
   FogLightingBinding& operator=(const FogLightingBinding&) = delete;
 
-  static constexpr int kUnits = 4;
+  static constexpr int kUnits = 8;
 
  private:
   int first_unit_;

@@ -108,8 +108,38 @@ struct LightPoint {
   std::array<double, 3> color{1.0, 1.0, 1.0};  // linear RGB, each [0, 1]
 };
 
+// One runway of an airport layout (tools/host_scene light_layouts.h
+// RunwaySpec): edge, centreline, touchdown-zone, threshold and end lights and
+// an approach lighting system before its threshold.
+struct AirportRunway {
+  std::array<double, 2> centre_enu_m{};  // east, north of its centre on the ground
+  double heading_deg = 90.0;             // landing direction, [0, 360]
+  double length_m = 3000.0;              // [300, 6000]
+  double width_m = 45.0;                 // [10, 100]
+};
+
+// An airport's lights (light_layouts.h airport_lights): its runways, then
+// taxiways parallel to the first and stubs to it. Absent runways: one on the
+// terrain's runway (centred on the ENU origin along terrain.runway_heading_deg,
+// 3000 x 45 m; heading 90 without terrain).
+struct AirportLights {
+  std::vector<AirportRunway> runways;  // 1 to 8
+  double taxiway_length_m = 8000.0;    // [0, 50000]
+};
+
+// A town's lights (light_layouts.h town_lights): streets, cars, windows and
+// signs in a square of side sqrt(lights / lights_per_km2) km.
+struct TownLights {
+  std::array<double, 2> centre_enu_m{0.0, 5000.0};  // east, north
+  std::uint32_t lights = 10000;                      // exactly this many, [1, 65536]
+  double lights_per_km2 = 1300.0;                    // [10, 100000]
+  std::uint64_t seed = 1;                            // [0, 2^53 - 1]
+};
+
 struct Lights {
   bool runway_approach = false;  // approach lighting of Terrain::runway
+  std::optional<AirportLights> airport;
+  std::optional<TownLights> town;
   std::vector<LightPoint> points;
 };
 
