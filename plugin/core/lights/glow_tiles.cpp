@@ -62,7 +62,8 @@ glm::vec4 glow_rectangle(const glm::dmat4& clip_from_enu, const glm::dvec3& towa
 }
 
 GlowTiles bin_glows(const fog::FogFrame& frame, const LightTree& tree, const fog::FogTable& airlight,
-                    const glm::dmat4& clip_from_enu, int viewport_width, int viewport_height, double min_sin) {
+                    const glm::dmat4& clip_from_enu, int viewport_width, int viewport_height, double min_sin,
+                    const GlowBudget& budget) {
   GlowTiles out;
   out.grid = ClusterGrid::for_view(clip_from_enu, viewport_width, viewport_height, ClusterGrid::kGlowTilePx);
   const ClusterGrid& g = out.grid;
@@ -136,7 +137,7 @@ GlowTiles bin_glows(const fog::FogFrame& frame, const LightTree& tree, const fog
   }
 
   // Each tile's cut of the tree (lightcuts): best first, the entry whose glow may be largest on the tile is
-  // opened (a node) or taken (a light), until kExactGlows lights are taken or kGlowOpens nodes opened; the
+  // opened (a node) or taken (a light), until budget.exact lights are taken or budget.opens nodes opened; the
   // rest of the cut is merged.
   struct Entry {
     float importance;  // a bound on its glow over the tile (a light's: its estimate)
@@ -190,10 +191,10 @@ GlowTiles bin_glows(const fog::FogFrame& frame, const LightTree& tree, const fog
       Entry e;
       if (entry(0, &e)) heap.push_back(e);
       int opened = 0;
-      while (!heap.empty() && o.exact.size() < static_cast<size_t>(kExactGlows)) {
+      while (!heap.empty() && o.exact.size() < static_cast<size_t>(budget.exact)) {
         const Entry top = heap.front();
         const LightTree::Node& n = tree.nodes[static_cast<size_t>(top.node)];
-        if (!n.leaf() && opened == kGlowOpens) break;
+        if (!n.leaf() && opened == budget.opens) break;
         std::pop_heap(heap.begin(), heap.end(), lighter);
         heap.pop_back();
         if (n.leaf()) {
@@ -209,16 +210,16 @@ GlowTiles bin_glows(const fog::FogFrame& frame, const LightTree& tree, const fog
       }
       std::sort(o.exact.begin(), o.exact.end());
       o.rest = heap.size();
-      if (heap.empty()) continue;
+      if (heap.empty() || budget.merged <= 0) continue;  // (a budget without merging drops the rest)
       // The rest of the cut, merged: split along the largest extent of the direction (radians) or of the log
-      // distance (half weight: e^(-beta D) D^-1 varies slowly in it) into up to kMergedGlows groups.
+      // distance (half weight: e^(-beta D) D^-1 varies slowly in it) into up to budget.merged groups.
       const auto coordinate = [&](const Entry& x, int axis) {
         const glm::vec3 p = tree.nodes[static_cast<size_t>(x.node)].centre;
         const float d = std::max(glm::length(p), 1e-3f);
         return axis < 3 ? p[axis] / d : 0.5f * std::log(d);
       };
       std::vector<std::pair<Entry*, Entry*>> groups = {{heap.data(), heap.data() + heap.size()}};
-      while (static_cast<int>(groups.size()) < kMergedGlows) {
+      while (static_cast<int>(groups.size()) < budget.merged) {
         auto largest = std::max_element(groups.begin(), groups.end(), [](const auto& x, const auto& y) {
           return x.second - x.first < y.second - y.first;
         });

@@ -39,6 +39,10 @@ constexpr double kCorePixels = 2.0;
 constexpr int kExactGlows = 6;
 constexpr int kMergedGlows = 4;
 constexpr int kGlowOpens = 96;
+// The per-tile budget (the constants above; bench/glow_tiers_error_cost charts others).
+struct GlowBudget {
+  int exact = kExactGlows, merged = kMergedGlows, opens = kGlowOpens;
+};
 
 struct GlowTiles {
   ClusterGrid grid;  // its tiles (the slices are not used)
@@ -61,6 +65,7 @@ glm::vec4 glow_rectangle(const glm::dmat4& clip_from_enu, const glm::dvec3& towa
 // clip_from_enu: the host's projection times view-from-ENU (rotation only).
 // min_sin: the pixel's floor of sin gamma (fog::glow_min_sin).
 GlowTiles bin_glows(const fog::FogFrame& frame, const LightTree& tree, const fog::FogTable& airlight,
-                    const glm::dmat4& clip_from_enu, int viewport_width, int viewport_height, double min_sin);
+                    const glm::dmat4& clip_from_enu, int viewport_width, int viewport_height, double min_sin,
+                    const GlowBudget& budget = GlowBudget{});
 
 }  // namespace atmo::lights
