@@ -41,7 +41,8 @@ void upload_r32f(GLuint* texture, const fog::FogTable& t) {
 }  // namespace
 
 void FogRenderer::forget() {
-  medium_program_ = glow_program_ = smooth_program_ = composite_program_ = 0;
+  medium_program_ = glow_program_ = smooth_program_ = composite_program_ = seams_program_ = 0;
+  seams_fbo_ = seams_near_texture_ = seams_far_texture_ = 0;
   glow_tiles_ = glow_lists_ = glow_entries_ = 0;
   smooth_fbo_ = smooth_near_ = smooth_far_ = 0;
   smooth_width_ = smooth_height_ = 0;
@@ -53,11 +54,13 @@ void FogRenderer::forget() {
 }
 
 void FogRenderer::destroy() {
-  for (GLuint p : {medium_program_, glow_program_, smooth_program_, composite_program_})
+  for (GLuint p : {medium_program_, glow_program_, smooth_program_, composite_program_, seams_program_})
     if (p) glDeleteProgram(p);
-  for (GLuint t : {glow_tiles_, glow_lists_, glow_entries_, smooth_near_, smooth_far_})
+  for (GLuint t : {glow_tiles_, glow_lists_, glow_entries_, smooth_near_, smooth_far_, seams_near_texture_,
+                   seams_far_texture_})
     if (t) glDeleteTextures(1, &t);
-  if (smooth_fbo_) glDeleteFramebuffers(1, &smooth_fbo_);
+  for (GLuint f : {smooth_fbo_, seams_fbo_})
+    if (f) glDeleteFramebuffers(1, &f);
   for (GLuint t : {airlight_table_, surface_table_, light_texture_, cluster_grid_, far_field_})
     if (t) glDeleteTextures(1, &t);
   if (vao_) glDeleteVertexArrays(1, &vao_);
@@ -88,6 +91,14 @@ bool FogRenderer::build_programs(std::string* error) {
   if (!smooth_program_) return false;
   composite_program_ = build_program("fullscreen.vert", "fog_glow_composite.frag", "", error);
   if (!composite_program_) return false;
+  seams_program_ = build_program("fullscreen.vert", "fog_glow_seams.frag", "", error);
+  if (!seams_program_) return false;
+  seams_near_ = glGetUniformLocation(seams_program_, "u_near");
+  seams_far_ = glGetUniformLocation(seams_program_, "u_far");
+  seams_tile_ = glGetUniformLocation(seams_program_, "u_tile");
+  seams_axis_ = glGetUniformLocation(seams_program_, "u_axis");
+  seams_tiles_ = glGetUniformLocation(seams_program_, "u_tiles");
+  seams_tile_count_ = glGetUniformLocation(seams_program_, "u_tile_count");
   smooth_pass_ = locate_pass_uniforms(smooth_program_);
   composite_pass_ = locate_pass_uniforms(composite_program_);
   const auto at = [](GLuint program, const char* name) { return glGetUniformLocation(program, name); };
@@ -153,10 +164,14 @@ bool FogRenderer::upload_glows(const fog::FogFrame& frame, const lights::GlowTil
   entries.resize(static_cast<size_t>(rows) * kPerRow * 16, 0.0f);
   const GLsizei list_rows = static_cast<GLsizei>(std::max<size_t>(1, (lists.size() + kEntriesPerRow - 1) / kEntriesPerRow));
   lists.resize(static_cast<size_t>(list_rows) * kEntriesPerRow, 0u);
-  std::vector<uint32_t> tiles(glows.offset.size() * 2);
+  // Per tile: its first entry, its count, how many of them are merged lights (the seams pass smooths only
+  // where a tile holds some), 0.
+  std::vector<uint32_t> tiles(glows.offset.size() * 4, 0u);
   for (size_t t = 0; t < glows.offset.size(); ++t) {
-    tiles[2 * t] = glows.offset[t];
-    tiles[2 * t + 1] = glows.count[t];
+    tiles[4 * t] = glows.offset[t];
+    tiles[4 * t + 1] = glows.count[t];
+    for (uint32_t k = glows.offset[t]; k < glows.offset[t] + glows.count[t]; ++k)
+      tiles[4 * t + 2] += glows.lists[k] >= frame.lights.size() ? 1u : 0u;
   }
   glActiveTexture(GL_TEXTURE0 + kGlowEntriesUnit);
   texture_2d(&glow_entries_, GL_RGBA32F, static_cast<GLsizei>(4 * kPerRow), rows, GL_RGBA, GL_FLOAT, entries.data());
@@ -164,18 +179,18 @@ bool FogRenderer::upload_glows(const fog::FogFrame& frame, const lights::GlowTil
   texture_2d(&glow_lists_, GL_R32UI, static_cast<GLsizei>(kEntriesPerRow), list_rows, GL_RED_INTEGER, GL_UNSIGNED_INT,
              lists.data());
   glActiveTexture(GL_TEXTURE0 + kGlowTilesUnit);
-  texture_2d(&glow_tiles_, GL_RG32UI, glows.grid.tiles_x, glows.grid.tiles_y, GL_RG_INTEGER, GL_UNSIGNED_INT,
-             tiles.data());
+  texture_2d(&glow_tiles_, GL_RGBA32UI, std::max(glows.grid.tiles_x, 1), std::max(glows.grid.tiles_y, 1),
+             GL_RGBA_INTEGER, GL_UNSIGNED_INT, tiles.data());
   return check_gl("uploading the glows' tiles", error);
 }
 
 void FogRenderer::ensure_glow_textures() {
   if (glow_tiles_ && glow_lists_ && glow_entries_) return;
   GlStateGuard guard(kUnitsUsed);
-  const uint32_t none[2] = {0u, 0u};
+  const uint32_t none[4] = {0u, 0u, 0u, 0u};
   const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   glActiveTexture(GL_TEXTURE0);
-  texture_2d(&glow_tiles_, GL_RG32UI, 1, 1, GL_RG_INTEGER, GL_UNSIGNED_INT, none);
+  texture_2d(&glow_tiles_, GL_RGBA32UI, 1, 1, GL_RGBA_INTEGER, GL_UNSIGNED_INT, none);
   texture_2d(&glow_lists_, GL_R32UI, 1, 1, GL_RED_INTEGER, GL_UNSIGNED_INT, none);
   texture_2d(&glow_entries_, GL_RGBA32F, 1, 1, GL_RGBA, GL_FLOAT, zero);
 }
@@ -191,6 +206,16 @@ bool FogRenderer::ensure_smooth_target(int width, int height, std::string* error
   glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, smooth_far_, 0);
   if (glCheckFramebufferStatus(GL_DRAW_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
     if (error) *error = "the glows' reduced image is not a complete framebuffer";
+    return false;
+  }
+  if (!seams_fbo_) glGenFramebuffers(1, &seams_fbo_);
+  texture_2d(&seams_near_texture_, GL_RGBA32F, width, height, GL_RGBA, GL_FLOAT, nullptr);
+  texture_2d(&seams_far_texture_, GL_RGBA32F, width, height, GL_RGBA, GL_FLOAT, nullptr);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, seams_fbo_);
+  glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, seams_near_texture_, 0);
+  glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, seams_far_texture_, 0);
+  if (glCheckFramebufferStatus(GL_DRAW_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    if (error) *error = "the glows' seams image is not a complete framebuffer";
     return false;
   }
   smooth_width_ = width;
@@ -273,6 +298,29 @@ bool FogRenderer::draw(const Renderer&, const PassInputs& in, const FogDrawInput
       glBindSampler(unit, nearest_sampler_);
     }
     glDrawArrays(GL_TRIANGLES, 0, 3);
+    // The tiles' seams smoothed, across x into the seams image, then across y back.
+    glUseProgram(seams_program_);
+    glUniform1i(seams_near_, static_cast<GLint>(kSmoothNearUnit));
+    glUniform1i(seams_far_, static_cast<GLint>(kSmoothFarUnit));
+    glUniform1i(seams_tiles_, static_cast<GLint>(kGlowEntriesUnit));
+    glActiveTexture(GL_TEXTURE0 + kGlowEntriesUnit);
+    glBindTexture(GL_TEXTURE_2D, glow_tiles_);
+    glBindSampler(kGlowEntriesUnit, nearest_sampler_);
+    glUniform2f(seams_tile_count_, float(glows.grid.tiles_x), float(glows.grid.tiles_y));
+    for (int axis = 0; axis < 2; ++axis) {
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, axis == 0 ? seams_fbo_ : smooth_fbo_);
+      glDrawBuffers(2, buffers);
+      glActiveTexture(GL_TEXTURE0 + kSmoothNearUnit);
+      glBindTexture(GL_TEXTURE_2D, axis == 0 ? smooth_near_ : seams_near_texture_);
+      glBindSampler(kSmoothNearUnit, nearest_sampler_);
+      glActiveTexture(GL_TEXTURE0 + kSmoothFarUnit);
+      glBindTexture(GL_TEXTURE_2D, axis == 0 ? smooth_far_ : seams_far_texture_);
+      glBindSampler(kSmoothFarUnit, nearest_sampler_);
+      const double tile = axis == 0 ? double(in.viewport[2]) / glows.grid.tiles_x : double(in.viewport[3]) / glows.grid.tiles_y;
+      glUniform1f(seams_tile_, static_cast<float>(tile / divisor));
+      glUniform1i(seams_axis_, axis);
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(host_fbo));  // its draw buffers: as the guard set
     for (size_t t = 0; t < glows.count.size(); ++t)
       stats_.smooth_evaluations += double(glows.count[t]);  // per tile; times its reduced pixels below

@@ -76,13 +76,16 @@ class FogRenderer {
   bool upload_glows(const fog::FogFrame& frame, const lights::GlowTiles& glows, float albedo, std::string* error);
   bool ensure_smooth_target(int width, int height, std::string* error);
 
-  GLuint medium_program_ = 0, glow_program_ = 0, smooth_program_ = 0, composite_program_ = 0;
+  GLuint medium_program_ = 0, glow_program_ = 0, smooth_program_ = 0, composite_program_ = 0, seams_program_ = 0;
+  GLint seams_near_ = -1, seams_far_ = -1, seams_tile_ = -1, seams_axis_ = -1, seams_tiles_ = -1,
+        seams_tile_count_ = -1;
   PassUniforms smooth_pass_, composite_pass_;
   GLint smooth_table_ = -1, smooth_table_size_ = -1, smooth_top_ = -1, smooth_core_ = -1, smooth_tiles_ = -1,
         smooth_lists_ = -1, smooth_glows_ = -1, smooth_tile_count_ = -1, smooth_divisor_ = -1;
   GLint composite_near_ = -1, composite_far_ = -1, composite_divisor_ = -1, glow_core_ = -1;
   GLuint glow_tiles_ = 0, glow_lists_ = 0, glow_entries_ = 0;
   GLuint smooth_fbo_ = 0, smooth_near_ = 0, smooth_far_ = 0;
+  GLuint seams_fbo_ = 0, seams_near_texture_ = 0, seams_far_texture_ = 0;  // the seams pass's first half
   int smooth_width_ = 0, smooth_height_ = 0;
   GLuint airlight_table_ = 0, surface_table_ = 0, light_texture_ = 0;
   GLuint cluster_grid_ = 0, far_field_ = 0;

@@ -755,7 +755,8 @@ typedef struct AtmoFogLighting {
      (atmo_fog_translucent; docs/FOG.md "Translucent surfaces"). The glow textures hold what the view's
      last ATMO_PASS_LIGHT_GLOWS drew: draw a view's translucent surfaces after its glow pass. --- */
   uint32_t airlight_table;      /* GL_TEXTURE_2D R32F, linear: for atmo_fog_airlight_table */
-  uint32_t glow_tiles;          /* GL_TEXTURE_2D RG32UI: per screen tile its first glow in glow_lists, its count */
+  uint32_t glow_tiles;          /* GL_TEXTURE_2D RGBA32UI: per screen tile its first glow in glow_lists, its count,
+                                   how many of them are merged lights, 0 */
   uint32_t glow_lists;          /* GL_TEXTURE_2D R32UI: glows (indices into glow_entries), 4096 a row */
   uint32_t glow_entries;        /* GL_TEXTURE_2D RGBA32F: 4 texels a glow, 256 a row (ENU relative to the eye) */
   double glow_grid[4];          /* for atmo_fog_glow_grid: tiles across, tiles up, airlight table size, the
