@@ -280,11 +280,11 @@ FogTable build_surface_table(int thickness_size, int theta_size, double g) {
   return t;
 }
 
-GlowBound::GlowBound(double g) : ghat0_(257) {
-  for (size_t i = 0; i < ghat0_.size(); ++i) {
-    const double gamma = kPi * i / (ghat0_.size() - 1);
-    ghat0_[i] = ghat(0.0, 0.5 * gamma, g, 1e-7);
-  }
+GlowBound::GlowBound(double g) : ghat0_(257), shape_max_(257, 0.0) {
+  const int n = static_cast<int>(ghat0_.size());
+  for (int i = 0; i < n; ++i) ghat0_[i] = ghat(0.0, 0.5 * kPi * i / (n - 1), g, 1e-7);
+  for (int i = n - 2; i >= 1; --i)
+    shape_max_[i] = std::max(std::max(ghat0_[i], ghat0_[i - 1]) / std::sin(kPi * i / (n - 1)), shape_max_[i + 1]);
 }
 
 double GlowBound::radius_rad(double beta, double albedo, double distance_m, double intensity_cd,
@@ -296,12 +296,19 @@ double GlowBound::radius_rad(double beta, double albedo, double distance_m, doub
   // light (most of a city's) is settled here.
   if (scale * ghat0_[0] / std::sin(kPi / (n - 1)) < threshold_cd_m2)
     return std::min(scale * ghat0_[0] / threshold_cd_m2, kPi / (n - 1));
-  // From the back (pi) towards the light: the first sample above the threshold
-  // (with its neighbour's Ghat, as the bound must hold between samples).
-  for (int i = n - 2; i >= 1; --i) {
-    const double gamma = kPi * i / (n - 1);
-    const double g_max = std::max(ghat0_[i], ghat0_[i - 1]);
-    if (scale * g_max / std::sin(gamma) >= threshold_cd_m2) return std::min(kPi * (i + 1) / (n - 1), kPi);
+  // From the back (pi) towards the light: the first sample above the threshold (with its neighbour's Ghat,
+  // as the bound must hold between samples): the largest i whose suffix maximum reaches it, by bisection.
+  const double want = threshold_cd_m2 / scale;
+  if (shape_max_[1] >= want) {
+    int lo = 1, hi = n - 2;  // shape_max_[lo] >= want; find the largest such
+    while (lo < hi) {
+      const int mid = (lo + hi + 1) / 2;
+      if (shape_max_[mid] >= want)
+        lo = mid;
+      else
+        hi = mid - 1;
+    }
+    return std::min(kPi * (lo + 1) / (n - 1), kPi);
   }
   // Only the core, where sin(gamma) ~ gamma and Ghat ~ Ghat(0, 0).
   return std::min(scale * ghat0_[0] / threshold_cd_m2, kPi / (n - 1));

@@ -99,6 +99,9 @@ class GlowBound {
 
  private:
   std::vector<double> ghat0_;  // Ghat(0, gamma/2) at gamma_i = pi i / (n - 1)
+  // For i in [1, n - 2]: the largest over j >= i of the bound's shape at sample j, max(Ghat_j, Ghat_j-1) /
+  // sin gamma_j (not increasing in i: the first sample from the back above the threshold by bisection).
+  std::vector<double> shape_max_;
 };
 
 }  // namespace atmo::fog
