@@ -154,6 +154,7 @@ int main(int argc, char** argv) {
   // The host's terrain: hills with the runway at the datum, flat under the approach; its own light points off.
   hs::TerrainOptions terrain_options;
   terrain_options.runway_heading_deg = 0.0;
+  terrain_options.draw_light_points = false;
   hs::Terrain terrain(terrain_options);
   if (!terrain.gl_init(&error)) {
     std::fprintf(stderr, "terrain: %s\n", error.c_str());

@@ -7,6 +7,7 @@
 //   atmo-sample-host --cloud cumulus:4:1200:2500   a cloud layer (repeatable; --vdb FILE[:GRID])
 //   atmo-sample-host --lights airport+town --rvr 550   the airport and a town, 15 000 lights, in fog
 #include <cstdio>
+#include <cstring>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -69,10 +70,10 @@ int main(int argc, char** argv) {
                  "The lights sent to the plugin: none, runway (the terrain's), airport (2 runways, taxiways) or "
                  "airport+town")
       ->capture_default_str();
-  auto* town = app.add_option("--town", settings.town_lights,
-                              "With --lights airport+town: the town's lights (1 300 a km^2; default: 15 000 in all)")
-                   ->check(CLI::Range(0u, sample::max_town_lights()))
-                   ->capture_default_str();
+  const std::string town_help = "With --lights airport+town: the town's lights, 0 to " +
+                                std::to_string(sample::max_town_lights()) +
+                                " (1 300 a km^2; default: 15 000 lights in all)";
+  auto* town = app.add_option("--town", settings.town_lights, town_help)->capture_default_str();
   app.add_option("--ev", settings.ev100, "Exposure, EV100")->capture_default_str();
   app.add_option("--depth", depth, "Depth convention")
       ->check(CLI::IsMember({"standard", "reversed", "log", "logarithmic"}))
@@ -122,11 +123,20 @@ int main(int argc, char** argv) {
   atmo::host_scene::parse_depth_convention(depth.c_str(), &settings.depth_convention);
   std::string option_error;
   if (!sample::parse_rvr(rvr, &settings.fog_visibility_m, &option_error)) {
-    std::fprintf(stderr, "atmo-sample-host: --rvr: %s\n", option_error.c_str());
+    // Named as given: --fog is the older name of --rvr.
+    const char* name = "--rvr";
+    for (int i = 1; i < argc; ++i)
+      if (std::strcmp(argv[i], "--fog") == 0 || std::strncmp(argv[i], "--fog=", 6) == 0) name = "--fog";
+    std::fprintf(stderr, "atmo-sample-host: %s: %s\n", name, option_error.c_str());
     return 2;
   }
   if (!sample::parse_lights_choice(lights, &settings.lights, &option_error)) {
     std::fprintf(stderr, "atmo-sample-host: --lights: %s\n", option_error.c_str());
+    return 2;
+  }
+  if (settings.town_lights > sample::max_town_lights()) {
+    std::fprintf(stderr, "atmo-sample-host: --town: %u is more than %u (all lights together: at most %u)\n",
+                 settings.town_lights, sample::max_town_lights(), ATMO_LIGHTS_MAX);
     return 2;
   }
   if (town->count() > 0 && settings.lights != sample::LightsChoice::AirportTown) {

@@ -144,6 +144,7 @@ bool SampleRenderer::gl_init(uint64_t terrain_seed, std::string* error) {
   }
   hs::TerrainOptions options;
   options.seed = terrain_seed;
+  options.draw_light_points = false;  // the plugin's light points pass draws them
   terrain_ = std::make_unique<hs::Terrain>(options);
   if (!terrain_->gl_init(error)) return false;
   const std::string fragment = std::string(embedded_glsl::find("atmo/atmo_tone_map.glsl")) + kToneMapFragment;
@@ -310,7 +311,8 @@ void SampleRenderer::send_lights(const SceneSettings& settings, FrameReport* rep
   if (!send0 && !send1) return;
   std::vector<AtmoLightPoint> lights[2];
   if (send0 && settings.lights == LightsChoice::Runway) lights[0] = terrain_->atmo_light_points();
-  if (send0 && group0(settings.lights) == LightsChoice::Airport) lights[0] = draped(hs::airport_lights(sample_airport()));
+  if (send0 && group0(settings.lights) == LightsChoice::Airport)
+    lights[0] = draped(hs::airport_lights(sample_airport()));
   if (send1 && town(settings) > 0) lights[1] = draped(hs::town_lights(sample_town(town(settings))));
   // Group 0 first: the town's largest count leaves room for the airport only
   // (all groups together hold at most ATMO_LIGHTS_MAX).

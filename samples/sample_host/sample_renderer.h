@@ -47,12 +47,13 @@ struct FrameReport {
   bool timings_valid = false;
   std::array<AtmoResult, ATMO_PASS_COUNT> pass_results{};  // by AtmoPass
   AtmoLighting lighting{};          // from get_lighting
-  AtmoFogLighting fog_lighting{};   // from get_fog_lighting (light_count 0: no lights near the view)
+  AtmoFogLighting fog_lighting{};   // from get_fog_lighting (light_count 0: no lights)
   double fog_lighting_ms = 0.0;     // CPU time of get_fog_lighting (the lights' clusters for the terrain)
   // The lights the plugin holds, by group (0: the runway's or the airport's, 1: the town's).
   std::array<uint32_t, 2> group_lights{};
   uint32_t lights_sent = 0;         // all groups
-  double set_lights_ms = std::numeric_limits<double>::quiet_NaN();       // CPU time of this frame's set_lights calls; NaN: none this frame
+  // CPU time of this frame's set_lights calls, ms; NaN: none this frame.
+  double set_lights_ms = std::numeric_limits<double>::quiet_NaN();
   std::array<std::string, kLightDebugCount> light_debug;  // empty: the plugin did not say this frame
   host_scene::SceneLighting scene_lighting;
   std::vector<std::string> errors;  // plugin errors and error-level log messages of this frame

@@ -61,7 +61,7 @@ bool parse_vdb_layer(const std::string& text, CloudLayerSettings* out, std::stri
 //   None: no lights for the plugin (the terrain still draws its own points);
 //   Runway: the terrain's runway (approach, threshold, end and edge lights);
 //   Airport: light_layouts.h's airport on the terrain's runway (two runways,
-//     touchdown zone, centreline, approach and taxiway lights; 2 893);
+//     touchdown zone, centreline, approach and taxiway lights: 1 830);
 //   AirportTown: and a town beyond it, 15 000 lights in all by default (the
 //     scene of bench/lights_scale_bench.cpp, turned to this runway).
 enum class LightsChoice { None, Runway, Airport, AirportTown };

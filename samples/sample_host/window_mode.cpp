@@ -1,6 +1,7 @@
 // Window mode: GLFW window (GL 4.5 core, else 3.3 core), free-fly camera,
-// Dear ImGui panel for time, place, air, depth convention, exposure, the
-// weather's cloud layers and the per-pass GPU timings.
+// Dear ImGui panel for time, place, air, fog (RVR), the lights, depth
+// convention, exposure, the weather's cloud layers and the per-pass GPU
+// timings with the light count.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -124,7 +125,12 @@ bool write_screenshot(const std::string& path, int width, int height) {
 
 struct PanelState {
   std::array<double, kSectionCount> smoothed_ms{};
+  std::array<double, kSectionCount> smoothed_wall_ms{};  // with finish_sections
   double smoothed_cpu_ms = 0.0;
+  double smoothed_fog_lighting_ms = 0.0;
+  bool finish_sections = false;     // glFinish after each section: exact times on llvmpipe, slower frames
+  double rvr_m = 550.0;             // the RVR the Fog checkbox turns back on
+  int town_slider = 0;              // the Town lights slider's value while it is dragged
   bool animate_time = false;
   float time_rate = 60.0f;
   std::vector<std::string> errors;  // of the last frame that had any
@@ -297,16 +303,21 @@ void draw_panel(const SampleRenderer& renderer, const FrameReport& report, FlyCa
     if (ImGui::SliderFloat("Visibility (m)", &visibility, 50.0f, 500000.0f, "%.0f", ImGuiSliderFlags_Logarithmic)) {
       s->visibility_m = visibility;
     }
+    // Ground fog by its RVR (set_fog on each change: cheap once its phase function's tables exist).
     bool fog = s->fog_visibility_m > 0.0;
-    if (ImGui::Checkbox("Ground fog", &fog)) s->fog_visibility_m = fog ? 200.0 : 0.0;
-    if (fog) {
-      float mor = static_cast<float>(s->fog_visibility_m), top = static_cast<float>(s->fog_top_m);
-      if (ImGui::SliderFloat("Fog visibility (m)", &mor, 10.0f, 5000.0f, "%.0f", ImGuiSliderFlags_Logarithmic))
-        s->fog_visibility_m = mor;
-      if (ImGui::SliderFloat("Fog top (m)", &top, 1.0f, 3000.0f, "%.0f", ImGuiSliderFlags_Logarithmic))
-        s->fog_top_m = top;
-      ImGui::Text("%u lights in the fog", report.fog_lighting.light_count);
+    if (ImGui::Checkbox("Fog", &fog)) s->fog_visibility_m = fog ? panel->rvr_m : 0.0;
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!fog);
+    float rvr = static_cast<float>(fog ? s->fog_visibility_m : panel->rvr_m);
+    if (ImGui::SliderFloat("RVR (m)", &rvr, static_cast<float>(kRvrMinM), static_cast<float>(kRvrMaxM), "%.0f",
+                           ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp)) {
+      panel->rvr_m = rvr;
+      s->fog_visibility_m = rvr;
     }
+    float top = static_cast<float>(s->fog_top_m);
+    if (ImGui::SliderFloat("Fog top (m)", &top, 1.0f, 3000.0f, "%.0f", ImGuiSliderFlags_Logarithmic))
+      s->fog_top_m = top;
+    ImGui::EndDisabled();
     float ev = static_cast<float>(s->ev100);
     if (ImGui::SliderFloat("Exposure EV100", &ev, -6.0f, 18.0f, "%.1f")) s->ev100 = ev;
     ImGui::TextUnformatted("Depth");
@@ -328,14 +339,50 @@ void draw_panel(const SampleRenderer& renderer, const FrameReport& report, FlyCa
     ImGui::TextDisabled("WASD move, Q/E down/up, drag to look, shift 10x");
   }
 
+  if (ImGui::CollapsingHeader("Lights", ImGuiTreeNodeFlags_DefaultOpen)) {
+    // set_lights when the choice changes: group 0 the runway or the airport, group 1 the town.
+    for (LightsChoice c : kLightsChoices) {
+      if (c != kLightsChoices[0]) ImGui::SameLine();
+      if (ImGui::RadioButton(lights_choice_name(c), s->lights == c)) s->lights = c;
+    }
+    ImGui::BeginDisabled(s->lights != LightsChoice::AirportTown);
+    // The slider follows the drag; the town is laid and sent on release (set_lights of group 1).
+    if (!ImGui::IsAnyItemActive()) panel->town_slider = static_cast<int>(s->town_lights);
+    ImGui::SliderInt("Town lights", &panel->town_slider, 100, static_cast<int>(max_town_lights()), "%d",
+                     ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp);
+    if (ImGui::IsItemDeactivatedAfterEdit()) s->town_lights = static_cast<uint32_t>(panel->town_slider);
+    ImGui::EndDisabled();
+    ImGui::Text("%u lights sent (group 0: %u, group 1: %u)", report.lights_sent, report.group_lights[0],
+                report.group_lights[1]);
+    ImGui::Text("terrain lit by %u (get_fog_lighting %.2f ms CPU)", report.fog_lighting.light_count,
+                panel->smoothed_fog_lighting_ms);
+    const auto shown_ms = [&](int section) {
+      return panel->finish_sections ? panel->smoothed_wall_ms[static_cast<size_t>(section)]
+                                    : panel->smoothed_ms[static_cast<size_t>(section)];
+    };
+    ImGui::Text("%s: light glows %.2f ms, light points %.2f ms, terrain %.2f ms",
+                panel->finish_sections ? "to glFinish" : "GPU", shown_ms(kSectionLightGlows),
+                shown_ms(kSectionLightPoints), shown_ms(kSectionTerrain));
+    // The plugin's own counts (its debug log lines): what each light pass culled, merged and drew.
+    ImGui::PushTextWrapPos(0.0f);
+    for (const std::string& line : report.light_debug)
+      if (!line.empty()) ImGui::TextDisabled("%s", line.c_str());
+    ImGui::PopTextWrapPos();
+  }
+
+  // With each section finished, a column of their wall times to glFinish.
+  const bool wall_column = panel->finish_sections;
   if (ImGui::CollapsingHeader("GPU time per pass", ImGuiTreeNodeFlags_DefaultOpen) &&
-      ImGui::BeginTable("timings", 3)) {
+      ImGui::BeginTable("timings", wall_column ? 4 : 3)) {
     ImGui::TableSetupColumn("section", ImGuiTableColumnFlags_WidthFixed, 140.0f);
     ImGui::TableSetupColumn("ms", ImGuiTableColumnFlags_WidthFixed, 90.0f);
+    if (wall_column) ImGui::TableSetupColumn("to glFinish", ImGuiTableColumnFlags_WidthFixed, 90.0f);
     ImGui::TableSetupColumn("result", ImGuiTableColumnFlags_WidthStretch);
-    double total = 0.0;
+    if (wall_column) ImGui::TableHeadersRow();
+    double total = 0.0, wall_total = 0.0;
     for (int i = 0; i < kSectionCount; ++i) {
       const double ms = panel->smoothed_ms[static_cast<size_t>(i)];
+      const double wall = panel->smoothed_wall_ms[static_cast<size_t>(i)];
       ImGui::TableNextRow();
       ImGui::TableNextColumn();
       ImGui::TextUnformatted(section_name(i));
@@ -345,6 +392,13 @@ void draw_panel(const SampleRenderer& renderer, const FrameReport& report, FlyCa
       } else {
         ImGui::Text("%.3f ms", ms);
         total += ms;
+      }
+      if (wall_column) {
+        ImGui::TableNextColumn();
+        if (!std::isnan(wall)) {
+          ImGui::Text("%.3f ms", wall);
+          wall_total += wall;
+        }
       }
       ImGui::TableNextColumn();
       if (section_pass(i) >= 0) {
@@ -358,18 +412,25 @@ void draw_panel(const SampleRenderer& renderer, const FrameReport& report, FlyCa
     ImGui::TextUnformatted("GPU total");
     ImGui::TableNextColumn();
     ImGui::Text("%.3f ms", total);
+    if (wall_column) {
+      ImGui::TableNextColumn();
+      ImGui::Text("%.3f ms", wall_total);
+    }
     ImGui::TableNextRow();
     ImGui::TableNextColumn();
     ImGui::TextUnformatted("CPU frame");
     ImGui::TableNextColumn();
     ImGui::Text("%.3f ms", panel->smoothed_cpu_ms);
+    if (wall_column) ImGui::TableNextColumn();
     ImGui::TableNextColumn();
     ImGui::TextDisabled("%.1f fps", ImGui::GetIO().Framerate);
     ImGui::EndTable();
+    ImGui::Checkbox("Finish each section (glFinish: its wall time; stalls)", &panel->finish_sections);
     // A software rasteriser defers drawing, so timer queries credit one pass with another's work.
     const char* gl_renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     if (gl_renderer && std::strstr(gl_renderer, "llvmpipe"))
-      ImGui::TextDisabled("llvmpipe defers rasterisation: per-pass times shift\nbetween passes; the total is right");
+      ImGui::TextDisabled("llvmpipe defers rasterisation: per-pass GPU times shift\nbetween passes (the total is "
+                          "right); finish each section\nfor each one's own");
   }
   ImGui::PopItemWidth();
 
@@ -429,6 +490,8 @@ int run_window(const Options& options, SceneSettings settings) {
   FlyCamera fly;
   PanelState panel;
   panel.smoothed_ms.fill(std::nan(""));
+  panel.smoothed_wall_ms.fill(std::nan(""));
+  if (settings.fog_visibility_m > 0.0) panel.rvr_m = settings.fog_visibility_m;
   panel.apply_clouds = !settings.clouds.layers.empty();  // the command line's layers
   FrameReport report;
   std::string last_printed;
@@ -459,14 +522,17 @@ int run_window(const Options& options, SceneSettings settings) {
 
     int width = 0, height = 0;
     glfwGetFramebufferSize(window.handle, &width, &height);
-    report = renderer->render_frame(settings, frame++, 0, width, height, false);
+    report = renderer->render_frame(settings, frame++, 0, width, height, false, panel.finish_sections);
     // Smoothed for reading; a section that stops running shows "-" at once.
+    const auto smooth = [](double ms, double* shown) {
+      *shown = std::isnan(ms) ? ms : (std::isnan(*shown) ? ms : 0.9 * *shown + 0.1 * ms);
+    };
     for (size_t i = 0; i < report.gpu_ms.size(); ++i) {
-      const double ms = report.gpu_ms[i];
-      double& shown = panel.smoothed_ms[i];
-      shown = std::isnan(ms) ? ms : (std::isnan(shown) ? ms : 0.9 * shown + 0.1 * ms);
+      smooth(report.gpu_ms[i], &panel.smoothed_ms[i]);
+      smooth(report.wall_ms[i], &panel.smoothed_wall_ms[i]);
     }
     panel.smoothed_cpu_ms = 0.9 * panel.smoothed_cpu_ms + 0.1 * report.cpu_ms;
+    smooth(report.fog_lighting_ms, &panel.smoothed_fog_lighting_ms);
     if (!report.errors.empty()) {
       panel.errors = report.errors;
       status = 1;

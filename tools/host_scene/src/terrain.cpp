@@ -667,6 +667,7 @@ void Terrain::draw(const ViewSetup& view, const SceneLighting& lighting, const A
   glDisable(GL_POLYGON_OFFSET_FILL);
   fog_binding.reset();
 
+  if (!options_.draw_light_points) return;
   // Light points: additive, tested against depth but not writing it.
   const double pixel_angle = 2.0 * std::tan(0.5 * view.vfov_rad) / std::max(view.viewport[3], 1);
   const double point_size = 2.0;

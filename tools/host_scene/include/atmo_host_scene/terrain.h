@@ -64,6 +64,9 @@ struct TerrainOptions {
   double runway_heading_deg = 90.0;
   double runway_length_m = 3000.0;
   double runway_width_m = 45.0;
+  // The runway lights as the host's own 2-pixel points; false where the plugin's ATMO_PASS_LIGHT_POINTS
+  // draws them (they would show twice).
+  bool draw_light_points = true;
 };
 
 // Light-point layout (counts are fixed by these numbers):
