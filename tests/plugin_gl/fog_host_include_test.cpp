@@ -39,20 +39,27 @@ constexpr double kPitchDeg = -12.0;
 const char* kVertex =
     "#version 330 core\nvoid main(){vec2 p=vec2((gl_VertexID<<1)&2,gl_VertexID&2);"
     "gl_Position=vec4(p*2.0-1.0,0.5,1.0);}\n";
+// The unit ray through the fragment's pixel, relative to the eye (world axes), before either main.
+const char* kPixelRay = R"(
+uniform mat4 rel_from_clip;
+uniform vec2 size;
+out vec4 colour;
+vec3 pixel_ray() {
+  vec2 ndc = gl_FragCoord.xy / size * 2.0 - 1.0;
+  vec4 a = rel_from_clip * vec4(ndc, -1.0, 1.0);
+  vec4 b = rel_from_clip * vec4(ndc, 1.0, 1.0);
+  return normalize(b.xyz / b.w - a.xyz / a.w);
+}
+)";
+
 // The ground point (2 m below the eye) each pixel sees, relative to the eye.
 const char* kFragmentMain = R"(
 uniform vec3 kd;
 uniform vec3 ks;
 uniform float exponent;
-uniform mat4 rel_from_clip;
 uniform float eye_height;
-uniform vec2 size;
-out vec4 colour;
 void main() {
-  vec2 ndc = gl_FragCoord.xy / size * 2.0 - 1.0;
-  vec4 a = rel_from_clip * vec4(ndc, -1.0, 1.0);
-  vec4 b = rel_from_clip * vec4(ndc, 1.0, 1.0);
-  vec3 dir = normalize(b.xyz / b.w - a.xyz / a.w);
+  vec3 dir = pixel_ray();
   if (dir.z > -1.0e-3) { colour = vec4(0.0); return; }
   vec3 p = dir * (-eye_height / dir.z);
   colour = vec4(atmo_fog_lights_surface(p, vec3(0.0, 0.0, 1.0), kd, ks, exponent), 1.0);
@@ -62,17 +69,10 @@ void main() {
 // A translucent surface (ATMO_PASS_LIGHT_GLOWS drawn first): each pixel the point `distance` metres along its
 // ray, its own light `own` (cd/m^2) through atmo_fog_translucent; alpha holds the transmittance.
 const char* kTranslucentMain = R"(
-uniform mat4 rel_from_clip;
-uniform vec2 size;
 uniform float distance;
 uniform vec3 own;
-out vec4 colour;
 void main() {
-  vec2 ndc = gl_FragCoord.xy / size * 2.0 - 1.0;
-  vec4 a = rel_from_clip * vec4(ndc, -1.0, 1.0);
-  vec4 b = rel_from_clip * vec4(ndc, 1.0, 1.0);
-  vec3 dir = normalize(b.xyz / b.w - a.xyz / a.w);
-  vec4 f = atmo_fog_translucent(dir * distance);
+  vec4 f = atmo_fog_translucent(pixel_ray() * distance);
   colour = vec4(own * f.a + f.rgb, f.a);
 }
 )";
@@ -216,7 +216,7 @@ struct Scene {
         read_text(std::string(ATMO_SOURCE_DIR) + "/host_sdk/include/atmo/atmo_fog_lights.glsl");
     GLuint program = glCreateProgram();
     GLuint vs = compile(GL_VERTEX_SHADER, kVertex);
-    GLuint fs = compile(GL_FRAGMENT_SHADER, "#version 330 core\n" + include + main_source);
+    GLuint fs = compile(GL_FRAGMENT_SHADER, "#version 330 core\n" + include + kPixelRay + main_source);
     glAttachShader(program, vs);
     glAttachShader(program, fs);
     glLinkProgram(program);
