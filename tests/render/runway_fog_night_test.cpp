@@ -12,8 +12,11 @@
 //   host scene's view and projection matrices), ending on the host's terrain.
 // Reference = single scattering by adaptive quadrature (every light) + the
 // Monte Carlo's orders >= 2 (every light, fixed seeds), with the Monte Carlo's
-// standard error in the tolerance. Which pixels, why, and the measured figures:
-// docs/FOG.md, "The runway scenario against the reference".
+// standard error in the tolerance. The render holds the lights' points too
+// (ATMO_PASS_LIGHT_POINTS, each light's direct image, not scattered light): they
+// are drawn alone here (light_points_only.h) and taken off the render first.
+// Which pixels, why, and the measured figures: docs/FOG.md, "The runway
+// scenario against the reference".
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -35,6 +38,7 @@
 #include "atmo_support/image_metrics.h"
 #include "core/fog/fog_model.h"
 #include "fog_reference.h"
+#include "light_points_only.h"
 #include "scenario_setup.h"
 
 namespace fr = atmo::fog_reference;
@@ -55,6 +59,7 @@ struct Scene {
   std::vector<fr::Light> lights;  // intensity = cd x luminance of the colour
   std::vector<int> lamp_posts;    // indices in `lights` of the file's own points
   atmo::support::Image image;
+  atmo::support::Image points;  // the lights' points alone (ATMO_PASS_LIGHT_POINTS), as the render drew them
   std::unique_ptr<hs::Terrain> terrain;
   double glow_threshold = 0;  // cd/m^2: what atmo render passes to set_lights, 1 / (2000 x the exposure scale)
 
@@ -92,7 +97,11 @@ struct Scene {
     const glm::dvec4 c = hs::clip_from_view(setup) * hs::view_from_enu(setup) * glm::dvec4(enu, 1.0);
     return {(0.5 * c.x / c.w + 0.5) * setup.viewport[2] - 0.5, (0.5 - 0.5 * c.y / c.w) * setup.viewport[3] - 0.5};
   }
-  double rendered(int x, int y) const { return atmo::support::luminance(image.pixel(x, y)); }
+  // The render's scattered light at a pixel: the render less the lights' own points.
+  double rendered(int x, int y) const {
+    return atmo::support::luminance(image.pixel(x, y)) - atmo::support::luminance(points.pixel(x, y));
+  }
+  double point(int x, int y) const { return atmo::support::luminance(points.pixel(x, y)); }
 };
 
 const Scene& scene() {
@@ -140,6 +149,8 @@ const Scene& scene() {
     s->glow_threshold = atmo::render::glow_threshold_cd_m2_of(hs::exposure_scale_from_ev100(*ev100));
     std::string error;
     if (!atmo::support::read_exr(ATMO_RUNWAY_FOG_NIGHT_EXR, &s->image, &error)) throw std::runtime_error(error);
+    atmo::test_render::LightPointsOnly alone(s->scenario, 0, ATMO_PLUGIN_PATH);
+    s->points = alone.render(points);  // the same lights
     return s;
   }();
   return *s;
@@ -261,8 +272,9 @@ std::vector<Checked> pixels(const Scene& s) {
 
 }  // namespace
 
-// The render's pixels against the reference. Prints, per pixel, the plugin's luminance, the reference (its
-// single and multiple parts, the Monte Carlo's standard error), their ratio, and what the plugin leaves out.
+// The render's pixels against the reference. Prints, per pixel, the plugin's scattered luminance (the render
+// less the points, which are printed apart), the reference (its single and multiple parts, the Monte Carlo's
+// standard error), their ratio, and what the plugin leaves out.
 TEST(RunwayFogNight, FogAndGlowLuminanceAgainstTheReference) {
   const Scene& s = scene();
   ASSERT_EQ(s.image.width, s.setup.viewport[2]);
@@ -272,16 +284,16 @@ TEST(RunwayFogNight, FogAndGlowLuminanceAgainstTheReference) {
               "%zu lights; glow threshold %.4g cd/m^2\n",
               s.medium.extinction_per_m, s.medium.albedo, s.medium.hg_g, s.medium.top_m, -s.medium.bottom_m,
               s.lights.size(), s.glow_threshold);
-  std::printf("%-50s %9s %5s %9s %9s %9s %7s %9s %6s %9s %9s %8s\n", "pixel", "(x, y)", "d_vp", "plugin",
-              "reference", "single", "multi", "MC se", "ratio", "drawn SS", "beamed MS", "ground<");
+  std::printf("%-50s %9s %5s %9s %9s %9s %9s %7s %9s %6s %9s %9s %8s\n", "pixel", "(x, y)", "d_vp", "plugin",
+              "(points)", "reference", "single", "multi", "MC se", "ratio", "drawn SS", "beamed MS", "ground<");
   uint64_t pixel_index = 0;
   for (const Checked& c : pixels(s)) {
     const Reference r = reference(s, c.x, c.y, kPaths, kSeed + 1000 * pixel_index++);
     const double plugin = s.rendered(c.x, c.y);
     const double ratio = plugin / r.total();
-    std::printf("%-50s (%3d,%3d) %5.0f %9.4g %9.4g %9.4g %7.4g %9.2g %6.3f %9.4g %9.4g %8.2g\n", c.name.c_str(), c.x,
-                c.y, r.d_vp, plugin, r.total(), r.single, r.multiple, r.multiple_se, ratio, r.drawn_single,
-                r.beamed_multiple, r.ground_bound);
+    std::printf("%-50s (%3d,%3d) %5.0f %9.4g %9.4g %9.4g %9.4g %7.4g %9.2g %6.3f %9.4g %9.4g %8.2g\n", c.name.c_str(),
+                c.x, c.y, r.d_vp, plugin, s.point(c.x, c.y), r.total(), r.single, r.multiple, r.multiple_se, ratio,
+                r.drawn_single, r.beamed_multiple, r.ground_bound);
     // The lit ground behind the fog is left out of the reference: it must be negligible.
     EXPECT_LT(r.ground_bound, 0.01 * r.total()) << c.name;
     const double low = kMargin * (c.glow ? kMeasuredGlowLow : kMeasuredFogLow);

@@ -96,8 +96,41 @@ TEST(Loader, SectionDefaultsFillIn) {
   EXPECT_TRUE(s.night_sky->stars);
   EXPECT_TRUE(s.night_sky->moon);
   EXPECT_FALSE(s.lights->runway_approach);
+  EXPECT_FALSE(s.lights->airport);
+  EXPECT_FALSE(s.lights->town);
   EXPECT_TRUE(s.lights->points.empty());
   EXPECT_EQ(s.expectations.reference->metric, "psnr_db");
+}
+
+// The airport and town layouts: every field's default; an airport without runways gets the terrain's.
+TEST(Loader, AirportAndTownDefaults) {
+  json d = minimal();
+  d["terrain"] = {{"kind", "flat"}, {"runway_heading_deg", 262}};
+  d["lights"] = {{"airport", json::object()}, {"town", json::object()}};
+  auto r = load(d);
+  ASSERT_TRUE(r.scenario) << r.error;
+  const sc::Lights& l = *r.scenario->lights;
+  ASSERT_TRUE(l.airport);
+  ASSERT_EQ(l.airport->runways.size(), 1u);
+  EXPECT_EQ(l.airport->runways[0].centre_enu_m, (std::array<double, 2>{0, 0}));
+  EXPECT_EQ(l.airport->runways[0].heading_deg, 262.0);  // the terrain's runway
+  EXPECT_EQ(l.airport->runways[0].length_m, 3000.0);
+  EXPECT_EQ(l.airport->runways[0].width_m, 45.0);
+  EXPECT_EQ(l.airport->taxiway_length_m, 8000.0);
+  ASSERT_TRUE(l.town);
+  EXPECT_EQ(l.town->centre_enu_m, (std::array<double, 2>{0, 5000}));
+  EXPECT_EQ(l.town->lights, 10000u);
+  EXPECT_EQ(l.town->lights_per_km2, 1300.0);
+  EXPECT_EQ(l.town->seed, 1u);
+  // Without terrain: heading 90; a runway given without fields takes each field's default.
+  d.erase("terrain");
+  d["lights"] = {{"airport", {{"runways", {json::object(), {{"heading_deg", 60}}}}}}};
+  r = load(d);
+  ASSERT_TRUE(r.scenario) << r.error;
+  ASSERT_EQ(r.scenario->lights->airport->runways.size(), 2u);
+  EXPECT_EQ(r.scenario->lights->airport->runways[0].heading_deg, 90.0);
+  EXPECT_EQ(r.scenario->lights->airport->runways[1].heading_deg, 60.0);
+  EXPECT_FALSE(r.scenario->lights->town);
 }
 
 TEST(Loader, EveryFieldIsRead) {
@@ -131,6 +164,18 @@ TEST(Loader, EveryFieldIsRead) {
   EXPECT_EQ(s.clouds[0].area_m, 12000.0);
   EXPECT_EQ(s.clouds[1].seed, 9u);
   EXPECT_EQ(s.fog->visibility_m, 250.0);
+  ASSERT_TRUE(s.lights->airport);
+  ASSERT_EQ(s.lights->airport->runways.size(), 1u);
+  EXPECT_EQ(s.lights->airport->runways[0].centre_enu_m, (std::array<double, 2>{100, -200}));
+  EXPECT_EQ(s.lights->airport->runways[0].heading_deg, 160.0);
+  EXPECT_EQ(s.lights->airport->runways[0].length_m, 2000.0);
+  EXPECT_EQ(s.lights->airport->runways[0].width_m, 30.0);
+  EXPECT_EQ(s.lights->airport->taxiway_length_m, 1500.0);
+  ASSERT_TRUE(s.lights->town);
+  EXPECT_EQ(s.lights->town->centre_enu_m, (std::array<double, 2>{-3000, 4000}));
+  EXPECT_EQ(s.lights->town->lights, 500u);
+  EXPECT_EQ(s.lights->town->lights_per_km2, 800.0);
+  EXPECT_EQ(s.lights->town->seed, 7u);
   ASSERT_EQ(s.lights->points.size(), 1u);
   EXPECT_EQ(s.lights->points[0].intensity_cd, 150.0);
   EXPECT_EQ(s.lights->points[0].color, (std::array<double, 3>{1, 1, 1}));
@@ -411,6 +456,28 @@ std::vector<Mutation> boundary_cases() {
       {"/lights", {{"points", {{{"enu_m", {0, 0, 1}}, {"intensity_cd", 1}, {"color", {0, 0, 0}}}}}}, true},
       {"/lights", {{"points", {{{"enu_m", {0, 0, 1}}, {"intensity_cd", 1}, {"color", {1, 1}}}}}}, false},
       {"/lights", {{"runway_approach", 1}}, false},
+      {"/lights", {{"airport", obj}, {"town", obj}}, true},
+      {"/lights", {{"airport", {{"runways", json::array()}}}}, false},
+      {"/lights", {{"airport", {{"runways", json::array({obj, obj, obj, obj, obj, obj, obj, obj})}}}}, true},
+      {"/lights", {{"airport", {{"runways", json::array({obj, obj, obj, obj, obj, obj, obj, obj, obj})}}}}, false},
+      {"/lights", {{"airport", {{"runways", {{{"length_m", 300}, {"width_m", 100}}}}}}}, true},
+      {"/lights", {{"airport", {{"runways", {{{"length_m", 299}}}}}}}, false},
+      {"/lights", {{"airport", {{"runways", {{{"length_m", 6001}}}}}}}, false},
+      {"/lights", {{"airport", {{"runways", {{{"width_m", 9.9}}}}}}}, false},
+      {"/lights", {{"airport", {{"runways", {{{"heading_deg", 360}}}}}}}, true},
+      {"/lights", {{"airport", {{"runways", {{{"heading_deg", -1}}}}}}}, false},
+      {"/lights", {{"airport", {{"runways", {{{"centre_enu_m", {1, 2, 3}}}}}}}}, false},
+      {"/lights", {{"airport", {{"runways", {{{"centre", {1, 2}}}}}}}}, false},
+      {"/lights", {{"airport", {{"taxiway_length_m", 0}}}}, true},
+      {"/lights", {{"airport", {{"taxiway_length_m", 50001}}}}, false},
+      {"/lights", {{"town", {{"lights", 65536}, {"lights_per_km2", 10}}}}, true},
+      {"/lights", {{"town", {{"lights", 0}}}}, false},
+      {"/lights", {{"town", {{"lights", 65537}}}}, false},
+      {"/lights", {{"town", {{"lights", 10.5}}}}, false},
+      {"/lights", {{"town", {{"lights_per_km2", 9}}}}, false},
+      {"/lights", {{"town", {{"lights_per_km2", 100001}}}}, false},
+      {"/lights", {{"town", {{"seed", -1}}}}, false},
+      {"/lights", {{"town", {{"centre_enu_m", {"0", 5000}}}}}, false},
       {"/night_sky", {{"stars", "yes"}}, false},
       {"/night_sky", {{"planets", true}}, false},
       {"/render", {{"depth_convention", "standard"}, {"output", "display_srgb"}}, true},

@@ -87,11 +87,12 @@ double sun_elevation_deg(double lat_deg, double lon_deg, double posix_s) {
 // Shipped scenarios
 
 const std::vector<std::string> kShipped = {
+    "airport_night_clear.json", "airport_night_fog_rvr550.json", "airport_night_haze_5km.json",
     "cirrus_overhead.json", "civil_twilight.json", "cumulus_8_oktas_horizon.json", "cumulus_flythrough.json", "high_altitude_12km.json", "moonlit_night.json",
     "noon_clear.json",     "orbit_night_5000km.json", "overcast_dusk.json",      "overcast_low_sun.json",
     "runway_fog_night.json", "sunset_haze.json", "vdb_cloud.json"};
 
-TEST(ShippedScenarios, AreExactlyTheDocumentedThirteen) {
+TEST(ShippedScenarios, AreExactlyTheDocumentedSixteen) {
   EXPECT_EQ(json_files(kConfig / "scenarios", ""), kShipped);
 }
 
@@ -148,6 +149,8 @@ TEST_P(ShippedScenario, SunElevationMatchesTheName) {
       {"overcast_low_sun.json", 4, 10},
       {"cumulus_8_oktas_horizon.json", 30, 90}, {"cirrus_overhead.json", 30, 90},
       {"vdb_cloud.json", 30, 90},
+      {"airport_night_fog_rvr550.json", -90, -18}, {"airport_night_haze_5km.json", -90, -18},
+      {"airport_night_clear.json", -90, -18},
       // Behind the Earth from the camera 5000 km up: below the horizon's dip there, acos(R / (R + h)) = 55.9°.
       {"orbit_night_5000km.json", -90, -56}};
   const auto r = sc::load_scenario_file((kConfig / "scenarios" / GetParam()).string());
@@ -178,6 +181,7 @@ TEST(ShippedScenarios, NotYetSupportedSectionsAreReported) {
   EXPECT_EQ(paths("noon_clear.json"), std::vector<std::string>{});
   EXPECT_EQ(paths("moonlit_night.json"), std::vector<std::string>{});
   EXPECT_EQ(paths("runway_fog_night.json"), std::vector<std::string>{});  // fog and lights are drawn (docs/FOG.md)
+  EXPECT_EQ(paths("airport_night_fog_rvr550.json"), std::vector<std::string>{});  // the airport and the town too
   EXPECT_EQ(paths("cumulus_flythrough.json"), std::vector<std::string>{});
 }
 
@@ -224,6 +228,8 @@ const Malformed kMalformed[] = {
     {"bad_fog_out_of_range.json", "/fog/top_m", "expected a number in (0, 3000], found 0", true},
     {"bad_fractional_width.json", "/cameras/0/width", "expected an integer in [1, 8192], found 64.5", true},
     {"bad_light_color.json", "/lights/points/0/color/1", "expected a number in [0, 1], found 2", true},
+    {"bad_airport_runway_length.json", "/lights/airport/runways/1/length_m", "expected a number in [300, 6000], found 100", true},
+    {"bad_town_lights.json", "/lights/town/lights", "expected an integer in [1, 65536], found 70000", true},
     {"bad_luminance_check_bounds.json", "/expectations/luminance_checks/0/max_cd_m2", "expected a number >= min_cd_m2 (500), found 100", false},
     {"bad_missing_camera_field.json", "/cameras/0/height", "required field missing: expected an integer in [1, 8192]", true},
     {"bad_missing_required.json", "/utc", "required field missing", true},

@@ -24,6 +24,9 @@ hs::TerrainOptions terrain_of(const sc::Scenario& s) {
   t.size_m = s.terrain->size_m;
   t.relief_m = s.terrain->kind == sc::TerrainKind::Flat ? 0.0 : s.terrain->relief_m;
   t.runway_heading_deg = s.terrain->runway_heading_deg;
+  // With a "lights" block the plugin has the scenario's lights and draws their points (ATMO_PASS_LIGHT_POINTS):
+  // the terrain's own runway points would show them twice, or show runway lights the scenario did not ask for.
+  t.draw_light_points = !s.lights;
   return t;
 }
 
@@ -72,7 +75,7 @@ std::vector<AtmoLightPoint> light_points_of(const sc::Scenario& s, const hs::Ter
   }
   // set_lights would refuse them all; say which file section asks for too many.
   if (points.size() > ATMO_LIGHTS_MAX)
-    throw std::runtime_error(s.source_file + ": /lights: " + std::to_string(points.size()) +
+    throw std::runtime_error("/lights: " + std::to_string(points.size()) +
                              " lights in all (runway, airport, town and points), more than set_lights takes (" +
                              std::to_string(ATMO_LIGHTS_MAX) + ")");
   return points;

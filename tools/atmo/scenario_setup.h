@@ -19,7 +19,7 @@
 
 namespace atmo::render {
 
-// The scenario's terrain (Kind::None without one).
+// The scenario's terrain (Kind::None without one); its own runway points drawn only without a "lights" block.
 host_scene::TerrainOptions terrain_of(const scenario::Scenario& s);
 
 host_scene::Geodetic to_host(const scenario::GeodeticPoint& g);

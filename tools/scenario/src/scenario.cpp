@@ -340,7 +340,9 @@ class Loader {
   void lights(const json& v, const std::string& ptr, const std::optional<Terrain>& terrain, Lights* l) {
     ObjectReader r(errors_, v, ptr, shape("lights"), "lights");
     if (auto x = r.boolean("runway_approach", false)) l->runway_approach = *x;
-    if (const json* a = r.field("airport", false, "")) airport(*a, r.child("airport"), terrain, &l->airport.emplace());
+    if (const json* a = r.field("airport", false, "")) {
+      airport(*a, r.child("airport"), terrain, &l->airport.emplace());
+    }
     if (const json* t = r.field("town", false, "")) town(*t, r.child("town"), &l->town.emplace());
     const json* points = r.field("points", false, "");
     if (!points) return;
@@ -387,7 +389,9 @@ class Loader {
       ObjectReader rr(errors_, (*runways)[i], r.child("runways") + "/" + std::to_string(i), shape("airport_runway"),
                       "runway");
       if (!rr.valid()) continue;
-      if (const json* c = rr.field("centre_enu_m", false, "")) vec<2>(*c, rr.child("centre_enu_m"), Range::any(), &w.centre_enu_m);
+      if (const json* c = rr.field("centre_enu_m", false, "")) {
+        vec<2>(*c, rr.child("centre_enu_m"), Range::any(), &w.centre_enu_m);
+      }
       if (auto x = rr.number("heading_deg", Range::closed(0, 360), 90.0)) w.heading_deg = *x;
       if (auto x = rr.number("length_m", Range::closed(300, 6000), 3000.0)) w.length_m = *x;
       if (auto x = rr.number("width_m", Range::closed(10, 100), 45.0)) w.width_m = *x;
@@ -398,7 +402,9 @@ class Loader {
   void town(const json& v, const std::string& ptr, TownLights* t) {
     ObjectReader r(errors_, v, ptr, shape("town_lights"), "town lights");
     if (!r.valid()) return;
-    if (const json* c = r.field("centre_enu_m", false, "")) vec<2>(*c, r.child("centre_enu_m"), Range::any(), &t->centre_enu_m);
+    if (const json* c = r.field("centre_enu_m", false, "")) {
+      vec<2>(*c, r.child("centre_enu_m"), Range::any(), &t->centre_enu_m);
+    }
     // At most what set_lights takes in all (ATMO_LIGHTS_MAX).
     if (auto x = r.integer("lights", 1, 65536, 10000)) t->lights = static_cast<std::uint32_t>(*x);
     if (auto x = r.number("lights_per_km2", Range::closed(10, 100000), 1300.0)) t->lights_per_km2 = *x;
