@@ -387,10 +387,10 @@ bool FogRenderer::upload_host_lights(const fog::FogFrame& frame, const lights::L
     const glm::vec3 p(world_from_enu * glm::dvec3(l.position_enu_m));
     const glm::vec3 axis(world_from_enu * glm::dvec3(l.axis_enu));
     const float cos_outer = l.lobes > 1.5f ? l.cos_outer + 4.0f : l.cos_outer;  // both ways: + 4
-    // An omnidirectional entry carries its extent (a merged light's) where a cone's cos_inner would be.
-    const float inner_or_extent = l.cos_outer < -1.5f ? l.extent_m : l.cos_inner;
-    const float t[12] = {p.x, p.y, p.z, range, l.intensity_cd.x, l.intensity_cd.y, l.intensity_cd.z, inner_or_extent,
-                         axis.x, axis.y, axis.z, cos_outer};
+    // The axis's length is 1 + the entry's extent (a merged light's, m; 0 for a light).
+    const glm::vec3 axis_extent = axis * (1.0f + l.extent_m);
+    const float t[12] = {p.x, p.y, p.z, range, l.intensity_cd.x, l.intensity_cd.y, l.intensity_cd.z, l.cos_inner,
+                         axis_extent.x, axis_extent.y, axis_extent.z, cos_outer};
     std::copy(t, t + 12, texels.begin() + static_cast<std::ptrdiff_t>(k * 12));
   }
   // The clusters: (first, count) per cluster, rows of tiles, slices stacked.

@@ -161,13 +161,16 @@ glm::vec3 include_on_cpu(const AtmoFogLighting& fl, const Readback& rb, const at
     const float d = glm::length(to_light);
     if (d > t0.w) continue;
     const glm::vec3 l = to_light / std::max(d, 1e-3f);
+    const float extent = glm::length(glm::vec3(t2)) - 1.0f;  // the axis's length: 1 + the entry's extent
     const bool both_ways = t2.w > 2.5f;
-    const float cone = twin::atmo_fog_cone(glm::vec3(t2), t1.w, both_ways ? t2.w - 4.0f : t2.w,
+    const float cone = twin::atmo_fog_cone(glm::vec3(t2) / (1.0f + extent), t1.w, both_ways ? t2.w - 4.0f : t2.w,
                                            both_ways ? 2.0f : 1.0f, -l);
     if (cone <= 0.0f) continue;
+    const float d_lit = std::max(d, extent);
     const float beta = float(fl.medium[0]) * twin::atmo_fog_inside_fraction(glm::dot(p, up), glm::dot(glm::vec3(t0), up),
                                                                            float(fl.medium[2]));
-    const glm::vec2 terms = twin::atmo_fog_surface_terms_single(table, size, beta, float(fl.medium[1]), d, beta * d,
+    const glm::vec2 terms = twin::atmo_fog_surface_terms_single(table, size, beta, float(fl.medium[1]), d_lit,
+                                                                beta * d_lit,
                                                                 glm::dot(normal, l), glm::dot(mirror, l), exponent);
     sum += glm::vec3(t1) * cone * (kd * terms.x + ks * terms.y);
   }
@@ -175,7 +178,9 @@ glm::vec3 include_on_cpu(const AtmoFogLighting& fl, const Readback& rb, const at
   for (int c = 0; c < 3; ++c)
     for (int r = 0; r < 3; ++r) enu_from_world[c][r] = float(fl.enu_from_world[c * 3 + r]);
   const glm::vec3 n = enu_from_world * normal;
-  const glm::vec2 uv = (glm::vec2(cell.x, cell.y) + 0.5f) / glm::vec2(grid);
+  const glm::vec4 clip = m * glm::vec4(p, 1.0f);
+  const glm::vec2 uv = clip.w > 1e-6f ? glm::clamp(glm::vec2(clip) / clip.w, -1.0f, 1.0f) * 0.5f + 0.5f
+                                      : (glm::vec2(cell.x, cell.y) + 0.5f) / glm::vec2(grid);
   const float slices = grid.z, k = std::clamp(cell.w, 0.5f, slices - 0.5f);
   glm::vec3 e(0.0f);
   for (int axis = 0; axis < 3; ++axis) {

@@ -389,24 +389,28 @@ vec3 atmo_fog_lights_surface(vec3 position_rel_eye_m, vec3 normal, vec3 kd, vec3
     vec3 to_light = t0.xyz - position_rel_eye_m;
     float d = length(to_light);
     if (d > t0.w) continue;
-    vec4 t1 = atmo_fog_light_texel(i, 1);  // intensity * colour (cd), cos_inner (omni: the extent, m)
-    vec4 t2 = atmo_fog_light_texel(i, 2);  // cone axis, cos_outer (+ 4: the cone shines both ways)
+    vec4 t1 = atmo_fog_light_texel(i, 1);  // intensity * colour (cd), cos_inner
+    vec4 t2 = atmo_fog_light_texel(i, 2);  // cone axis x (1 + extent m), cos_outer (+ 4: both ways)
     vec3 l = to_light / max(d, 1.0e-3);
+    float extent = length(t2.xyz) - 1.0;
     bool both_ways = t2.w > 2.5;
-    float cone = atmo_fog_cone(t2.xyz, t1.w, both_ways ? t2.w - 4.0 : t2.w, both_ways ? 2.0 : 1.0, -l);
+    float cone = atmo_fog_cone(t2.xyz / (1.0 + extent), t1.w, both_ways ? t2.w - 4.0 : t2.w, both_ways ? 2.0 : 1.0,
+                               -l);
     if (cone <= 0.0) continue;
-    // A merged light stands for lights spread about it: no nearer than its extent.
-    if (t2.w < -1.5) d = max(d, t1.w);
+    // A merged light stands for lights spread about it: no nearer than their extent.
+    d = max(d, extent);
     float beta = atmo_fog_medium.x * atmo_fog_inside_fraction(z_point, dot(t0.xyz, atmo_fog_up), atmo_fog_medium.z);
     vec2 terms = atmo_fog_surface_terms_single(atmo_fog_surface_table, atmo_fog_surface_table_size, beta,
                                                atmo_fog_medium.y, d, beta * d, dot(normal, l), dot(mirror, l),
                                                exponent);
     sum += t1.rgb * cone * (kd * terms.x + ks * terms.y);
   }
-  // The far field, an ambient cube in the eye's ENU axes: E(n) = sum n_i^2 E(face of n_i's sign), between
-  // the cluster centres of its tile's column of slices.
+  // The far field, an ambient cube in the eye's ENU axes: E(n) = sum n_i^2 E(face of n_i's sign), linear
+  // between the cluster centres, along the slices and across the tiles (the texels sit at the tiles'
+  // centres: a field held per cluster shows no tile's edge).
   vec3 n = atmo_fog_enu_from_world * normal;
-  vec2 uv = (vec2(cell.x, cell.y) + 0.5) / atmo_fog_cluster_grid_size.xy;
+  vec2 uv = clip.w > 1.0e-6 ? clamp(clip.xy / clip.w, -1.0, 1.0) * 0.5 + 0.5
+                            : (vec2(cell.x, cell.y) + 0.5) / atmo_fog_cluster_grid_size.xy;
   float slices = atmo_fog_cluster_grid_size.z;
   float k = clamp(cell.w, 0.5, slices - 0.5);
   vec3 face = vec3(n.x < 0.0 ? 1.0 : 0.0, n.y < 0.0 ? 3.0 : 2.0, n.z < 0.0 ? 5.0 : 4.0);

@@ -154,8 +154,30 @@ struct Cut {
     v.position_enu_m = n.centre;
     v.beta_per_m = n.beta_mean;
     v.extent_m = std::sqrt(n.variance_m2);
-    const double d = std::max({glm::length(glm::dvec3(n.centre) - c), double(v.extent_m), 0.5});
-    v.intensity_cd = glm::vec3(node_irradiance(id, c, exact) * (d * d * std::exp(double(n.beta_mean) * d)));
+    const glm::dvec3 to = c - glm::dvec3(n.centre);
+    const double d = std::max({glm::length(to), double(v.extent_m), 0.5});
+    const glm::dvec3 irradiance = node_irradiance(id, c, exact);
+    // Cone lights of one axis (a row of beams) stay one cone: as one omnidirectional light they would light
+    // what lies outside their beams, each cluster differently (blocks on the ground).
+    const float axis_length = glm::length(n.axis_sum);
+    const float two_way = n.cone > 0.0f ? n.two_way / n.cone : 0.0f;
+    if (n.cone > 0.0f && n.omni < 0.05f * n.cone && axis_length > 0.9f * n.cone && (two_way < 0.1f || two_way > 0.9f)) {
+      v.axis_enu = n.axis_sum / axis_length;
+      v.cos_inner = n.cos_inner_sum / n.cone;
+      v.cos_outer = n.cos_outer_sum / n.cone;
+      v.lobes = two_way > 0.5f ? 2.0f : 1.0f;
+      const double towards = fog::twin::atmo_fog_cone(v.axis_enu, v.cos_inner, v.cos_outer, v.lobes,
+                                                      glm::vec3(to / std::max(glm::length(to), 1e-6)));
+      if (towards > 0.05) {
+        v.intensity_cd = glm::vec3(irradiance * (d * d * std::exp(double(n.beta_mean) * d) / towards));
+        return v;
+      }
+      // Off its beams here: as one omnidirectional light.
+      v.axis_enu = glm::vec3(0.0f, 0.0f, 1.0f);
+      v.cos_inner = v.cos_outer = -2.0f;
+      v.lobes = 1.0f;
+    }
+    v.intensity_cd = glm::vec3(irradiance * (d * d * std::exp(double(n.beta_mean) * d)));
     return v;
   }
 
