@@ -323,6 +323,21 @@ TEST(FogHostInclude, AnIncludeFromBeforeTheClustersGetsNoLights) {
   EXPECT_EQ(fl.light_count, 1u);
 }
 
+// A host's light as the twin's functions take it: relative to the eye (the world is ENU at the lights'
+// origin, the eye 2 m above it), its cone (cos_outer < -1.5: omnidirectional).
+struct EyeLight {
+  glm::vec3 position, axis;
+  float cos_inner, cos_outer;
+};
+EyeLight eye_light(const AtmoLightPoint& light) {
+  const bool cone_light = light.cone_outer_rad > 0.0;
+  return {glm::vec3(light.position_m[0], light.position_m[1], light.position_m[2] - kEyeHeightM),
+          cone_light ? glm::normalize(glm::vec3(light.direction[0], light.direction[1], light.direction[2]))
+                     : glm::vec3(0.0f, 0.0f, 1.0f),
+          cone_light ? std::cos(float(light.cone_inner_rad)) : -2.0f,
+          cone_light ? std::cos(float(light.cone_outer_rad)) : -2.0f};
+}
+
 // The brute-force sum over every light at the pixel's own point: each light's whole light (direct, single
 // scattered, diffusion; atmo_fog_surface_terms) with no range, no list and no far field.
 glm::vec3 every_light(const AtmoFogLighting& fl, const std::vector<AtmoLightPoint>& lights,
@@ -333,14 +348,10 @@ glm::vec3 every_light(const AtmoFogLighting& fl, const std::vector<AtmoLightPoin
   const glm::vec4 diffusion(fl.diffusion[0], fl.diffusion[1], fl.diffusion[2], fl.diffusion[3]);
   glm::vec3 sum(0.0f);
   for (const AtmoLightPoint& light : lights) {
-    // The host's light relative to the eye (the world is ENU at the lights' origin, the eye 2 m above it).
-    const glm::vec3 position(light.position_m[0], light.position_m[1], light.position_m[2] - kEyeHeightM);
-    const bool cone_light = light.cone_outer_rad > 0.0;
-    const glm::vec3 axis = cone_light ? glm::normalize(glm::vec3(light.direction[0], light.direction[1],
-                                                                 light.direction[2]))
-                                      : glm::vec3(0.0f, 0.0f, 1.0f);
-    const float ci = cone_light ? std::cos(float(light.cone_inner_rad)) : -2.0f;
-    const float co = cone_light ? std::cos(float(light.cone_outer_rad)) : -2.0f;
+    const EyeLight eye = eye_light(light);
+    const glm::vec3 position = eye.position, axis = eye.axis;
+    const float ci = eye.cos_inner, co = eye.cos_outer;
+    const bool cone_light = co > -1.5f;
     const glm::vec3 intensity = float(light.intensity_cd) * glm::vec3(light.color[0], light.color[1], light.color[2]);
     const glm::vec3 to_light = position - p;
     const float d = glm::length(to_light);
@@ -496,16 +507,10 @@ TEST(FogHostInclude, TranslucentSurfacesGetTheFogAndGlowsInFrontOfThem) {
                                                                glm::vec3(fl.fluence[0], fl.fluence[1], fl.fluence[2]),
                                                                flux, dir);
         for (const AtmoLightPoint& light : lights) {
-          const glm::vec3 p(light.position_m[0], light.position_m[1], light.position_m[2] - kEyeHeightM);
-          const bool cone_light = light.cone_outer_rad > 0.0;
-          const glm::vec3 axis = cone_light ? glm::normalize(glm::vec3(light.direction[0], light.direction[1],
-                                                                       light.direction[2]))
-                                            : glm::vec3(0.0f, 0.0f, 1.0f);
-          const float ci = cone_light ? std::cos(float(light.cone_inner_rad)) : -2.0f;
-          const float co = cone_light ? std::cos(float(light.cone_outer_rad)) : -2.0f;
+          const EyeLight l = eye_light(light);
           want += albedo * float(light.intensity_cd) *
-                  twin::atmo_fog_glow(table, float(fl.glow_grid[2]), beta, p, dir, axis, ci, co, 1.0f, distance,
-                                      float(fl.glow_grid[3]));
+                  twin::atmo_fog_glow(table, float(fl.glow_grid[2]), beta, l.position, dir, l.axis, l.cos_inner,
+                                      l.cos_outer, 1.0f, distance, float(fl.glow_grid[3]));
         }
         const float* got = img.pixel(x, kH - 1 - y);
         worst_t = std::max(worst_t, double(std::abs(got[3] - t)));
