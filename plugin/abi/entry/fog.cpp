@@ -103,8 +103,8 @@ AtmoResult fog_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& sce
                                         std::to_string(static_cast<long long>(st.covered_pixels)) + " pixels, " +
                                         std::to_string(glows.lists.size()) + " tile glows (" +
                                         std::to_string(glows.merged.size()) + " merged, longest list " +
-                                        std::to_string(glows.longest_list) + "; " + std::to_string(glows.pairs) +
-                                        " tree entries weighed, " + std::to_string(glows.overflow) + " merged)");
+                                        std::to_string(glows.longest_list) + "; " + std::to_string(glows.weighed) +
+                                        " tree entries weighed, " + std::to_string(glows.merged_entries) + " merged)");
   return ATMO_SUCCESS;
 }
 
@@ -202,14 +202,13 @@ AtmoResult set_light_group_pose(AtmoContext context, const AtmoLightGroupPose* p
 
 // The fields for the host's translucent surfaces (atmo_fog_translucent): the fog's medium and light, and the
 // glows its view's glow pass last drew (with or without lights: a translucent surface in fog is fogged).
-void fill_translucent_fields(AtmoContext_T* ctx, AtmoView_T* view, AtmoFogLighting* f) {
-  if (!ctx->fog.enabled()) return;
+bool fill_translucent_fields(AtmoContext_T* ctx, AtmoView_T* view, AtmoFogLighting* f, std::string* error) {
+  if (!ctx->fog.enabled()) return true;
   const core::Scene scene = prepare_scene(ctx, *view);
   const core::SkyLighting& sky = view_sky_lighting(ctx, view, scene);
   const glm::dvec3 ambient = fog::ambient_radiance_cd_m2(ctx->fog.optics, sky, scene, ctx->atmosphere.ground_albedo);
   const fog::FogFrame& frame = view_fog_frame(ctx, view);
-  std::string error;
-  ctx->fog_renderer.upload_tables(ctx->fog.airlight, ctx->fog.surface, ctx->fog.version, &error);
+  if (!ctx->fog_renderer.upload_tables(ctx->fog.airlight, ctx->fog.surface, ctx->fog.version, error)) return false;
   ctx->fog_renderer.ensure_glow_textures();
   f->medium[0] = ctx->fog.optics.extinction_per_m;
   f->medium[1] = ctx->fog.optics.albedo;
@@ -232,6 +231,7 @@ void fill_translucent_fields(AtmoContext_T* ctx, AtmoView_T* view, AtmoFogLighti
   }
   for (int c = 0; c < 3; ++c)
     for (int r = 0; r < 3; ++r) f->flux[c * 3 + r] = frame.flux_towards_lights[c][r];
+  return true;
 }
 
 AtmoResult get_fog_lighting(AtmoView view_handle, AtmoFogLighting* out) {
@@ -239,7 +239,8 @@ AtmoResult get_fog_lighting(AtmoView view_handle, AtmoFogLighting* out) {
       view_handle, "get_fog_lighting", out, ATMO_TYPE_FOG_LIGHTING, "AtmoFogLighting", true,
       [&](AtmoContext_T* ctx, AtmoView_T* view, AtmoFogLighting& f) -> AtmoResult {
         std::memset(reinterpret_cast<char*>(&f) + sizeof(f.header), 0, sizeof(f) - sizeof(f.header));
-        fill_translucent_fields(ctx, view, &f);
+        std::string error;
+        if (!fill_translucent_fields(ctx, view, &f, &error)) return fail(ctx, ATMO_ERROR_GL, "get_fog_lighting", error);
         if (ctx->lights.empty()) return ATMO_STATUS_NOTHING_TO_DRAW;
         if (out->header.struct_size < offsetof(AtmoFogLighting, cluster_grid) + sizeof(f.cluster_grid)) {
           // An include from before the clusters reads the lights in another layout: give it none.
@@ -260,7 +261,6 @@ AtmoResult get_fog_lighting(AtmoView view_handle, AtmoFogLighting* out) {
         const bool fogged = ctx->fog.enabled();
         const fog::FogTable& airlight = fogged ? ctx->fog.airlight : no_fog_table();
         const fog::FogTable& surface = fogged ? ctx->fog.surface : no_fog_table();
-        std::string error;
         if (!ctx->fog_renderer.upload_tables(airlight, surface, fogged ? ctx->fog.version : ~uint64_t(0), &error) ||
             !ctx->fog_renderer.upload_host_lights(frame, clusters, world_from_enu, &error))
           return fail(ctx, ATMO_ERROR_GL, "get_fog_lighting", error);

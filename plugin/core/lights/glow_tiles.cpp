@@ -25,18 +25,15 @@ double node_glow(const LightTree::Node& n, const fog::FogTable& airlight, const 
   const double omni = fog::twin::atmo_fog_airlight(airlight, size, n.beta_mean, d, glm::dot(ray, n.centre) / d,
                                                    fog::twin::ATMO_FOG_FAR, min_sin);
   if (!(n.cone > 0.0f)) return n.omni * omni;
-  const float length = glm::length(n.axis_sum);
-  const double agree = std::min(length / n.cone, 1.0f);
-  const glm::vec3 axis = length > 0.0f ? n.axis_sum / length : glm::vec3(0.0f, 0.0f, 1.0f);
-  const float ci = n.cos_inner_sum / n.cone, co = n.cos_outer_sum / n.cone, two_way = n.two_way / n.cone;
+  const NodeCone c = node_cone(n);
   double as_one_cone = 0.0;
   for (const float lobes : {1.0f, 2.0f}) {
-    const float share = lobes > 1.5f ? two_way : 1.0f - two_way;
+    const float share = lobes > 1.5f ? c.two_way : 1.0f - c.two_way;
     if (share > 0.0f)
-      as_one_cone += share * fog::twin::atmo_fog_glow(airlight, size, n.beta_mean, n.centre, ray, axis, ci, co, lobes,
-                                                      fog::twin::ATMO_FOG_FAR, min_sin);
+      as_one_cone += share * fog::twin::atmo_fog_glow(airlight, size, n.beta_mean, n.centre, ray, c.axis, c.cos_inner,
+                                                      c.cos_outer, lobes, fog::twin::ATMO_FOG_FAR, min_sin);
   }
-  return n.omni * omni + n.cone * (agree * as_one_cone + (1.0 - agree) * n.mean_sum / n.cone * omni);
+  return n.omni * omni + n.cone * (c.agree * as_one_cone + (1.0 - c.agree) * n.mean_sum / n.cone * omni);
 }
 
 }  // namespace
@@ -294,8 +291,8 @@ GlowTiles bin_glows(const fog::FogFrame& frame, const LightTree& tree, const fog
     }
     out.count[t] = static_cast<uint32_t>(out.lists.size() - out.offset[t]);
     out.longest_list = std::max(out.longest_list, out.count[t]);
-    out.pairs += o.visited;
-    out.overflow += o.rest;
+    out.weighed += o.visited;
+    out.merged_entries += o.rest;
   }
   return out;
 }

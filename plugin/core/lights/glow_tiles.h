@@ -52,7 +52,7 @@ struct GlowTiles {
   std::vector<uint32_t> cores;          // the lights whose core is drawn
   std::vector<float> core_radius_rad;   // ... and how far it reaches (<= the core angle)
   float core_sin = 0.0f;                // sin gamma_c
-  uint64_t pairs = 0, overflow = 0;  // the tree's entries weighed, and those merged
+  uint64_t weighed = 0, merged_entries = 0;  // the tree's entries weighed, and those merged
   uint32_t longest_list = 0;
 };
 

@@ -159,13 +159,12 @@ struct Cut {
     const glm::dvec3 irradiance = node_irradiance(id, c, exact);
     // Cone lights of one axis (a row of beams) stay one cone: as one omnidirectional light they would light
     // what lies outside their beams, each cluster differently (blocks on the ground).
-    const float axis_length = glm::length(n.axis_sum);
-    const float two_way = n.cone > 0.0f ? n.two_way / n.cone : 0.0f;
-    if (n.cone > 0.0f && n.omni < 0.05f * n.cone && axis_length > 0.9f * n.cone && (two_way < 0.1f || two_way > 0.9f)) {
-      v.axis_enu = n.axis_sum / axis_length;
-      v.cos_inner = n.cos_inner_sum / n.cone;
-      v.cos_outer = n.cos_outer_sum / n.cone;
-      v.lobes = two_way > 0.5f ? 2.0f : 1.0f;
+    const NodeCone cone = node_cone(n);
+    if (n.cone > 0.0f && n.omni < 0.05f * n.cone && cone.agree > 0.9f && (cone.two_way < 0.1f || cone.two_way > 0.9f)) {
+      v.axis_enu = cone.axis;
+      v.cos_inner = cone.cos_inner;
+      v.cos_outer = cone.cos_outer;
+      v.lobes = cone.two_way > 0.5f ? 2.0f : 1.0f;
       const double towards = fog::twin::atmo_fog_cone(v.axis_enu, v.cos_inner, v.cos_outer, v.lobes,
                                                       glm::vec3(to / std::max(glm::length(to), 1e-6)));
       if (towards > 0.05) {

@@ -143,15 +143,25 @@ LightTree::Node leaf(const fog::FrameLight& l, uint32_t i) {
 
 }  // namespace
 
+NodeCone node_cone(const LightTree::Node& n) {
+  NodeCone c;
+  if (!(n.cone > 0.0f)) return c;
+  const float length = glm::length(n.axis_sum);
+  c.agree = std::min(length / n.cone, 1.0f);
+  if (length > 0.0f) c.axis = n.axis_sum / length;
+  c.cos_inner = n.cos_inner_sum / n.cone;
+  c.cos_outer = n.cos_outer_sum / n.cone;
+  c.two_way = n.two_way / n.cone;
+  return c;
+}
+
 float node_intensity_towards(const LightTree::Node& n, const glm::vec3& w) {
   if (!(n.cone > 0.0f)) return n.omni;
-  const float length = glm::length(n.axis_sum);
-  const float agree = std::min(length / n.cone, 1.0f);
-  const glm::vec3 axis = length > 0.0f ? n.axis_sum / length : glm::vec3(0.0f, 0.0f, 1.0f);
-  const float ci = n.cos_inner_sum / n.cone, co = n.cos_outer_sum / n.cone, two_way = n.two_way / n.cone;
-  const float one = fog::twin::atmo_fog_cone(axis, ci, co, 1.0f, w), both = fog::twin::atmo_fog_cone(axis, ci, co, 2.0f, w);
-  const float as_one_cone = (1.0f - two_way) * one + two_way * both;
-  return n.omni + n.cone * (agree * as_one_cone + (1.0f - agree) * n.mean_sum / n.cone);
+  const NodeCone c = node_cone(n);
+  const float one = fog::twin::atmo_fog_cone(c.axis, c.cos_inner, c.cos_outer, 1.0f, w);
+  const float both = fog::twin::atmo_fog_cone(c.axis, c.cos_inner, c.cos_outer, 2.0f, w);
+  const float as_one_cone = (1.0f - c.two_way) * one + c.two_way * both;
+  return n.omni + n.cone * (c.agree * as_one_cone + (1.0f - c.agree) * n.mean_sum / n.cone);
 }
 
 double node_spread_gain(const LightTree::Node& n, double distance_m, double beta_per_m) {

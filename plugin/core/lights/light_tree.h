@@ -64,6 +64,14 @@ void build_light_tree(const std::vector<fog::FrameLight>& lights, LightTree* tre
 // about the node's size).
 double node_spread_gain(const LightTree::Node& n, double distance_m, double beta_per_m);
 
+// A node's cone lights as one cone (where n.cone > 0): their mean axis, mean cosines and two-way share, and
+// how far their axes agree (|axis_sum| / cone: 1 for one axis, towards 0 for axes all round).
+struct NodeCone {
+  glm::vec3 axis{0.0f, 0.0f, 1.0f};
+  float cos_inner = -2.0f, cos_outer = -2.0f, two_way = 0.0f, agree = 0.0f;
+};
+NodeCone node_cone(const LightTree::Node& n);
+
 // A node's peak-channel intensity towards unit direction w, cd: its omnidirectional lights, and its cone
 // lights as one cone on their mean axis with their mean cosines, the more so the more their axes agree (else
 // their mean over the sphere). Exact for lights of one kind with one axis.
