@@ -144,7 +144,9 @@ TEST(TripleProduct, SymmetricSparseAndSelectionRules) {
       for (int k = 0; k < 16; ++k) {
         EXPECT_EQ(g.gamma(i, j, k), g.gamma(j, k, i));
         const int li = band_of(i), lj = band_of(j), lk = band_of(k);
-        if (li > lj + lk || li < std::abs(lj - lk) || (li + lj + lk) % 2) EXPECT_EQ(g.gamma(i, j, k), 0.0);
+        if (li > lj + lk || li < std::abs(lj - lk) || (li + lj + lk) % 2) {
+          EXPECT_EQ(g.gamma(i, j, k), 0.0);
+        }
       }
     }
   // Against brute force: the product of two caps is the cap of their intersection, projected.
@@ -181,7 +183,9 @@ TEST(ShExpLog, RoundTripAndOptimalLinearAgainstTheDigest) {
     err = std::sqrt(err / sh_dot(b, b));
     std::printf("theta %4.0f deg: |f^| %.3f (digest %.3f), exact round trip %.1e (digest %.0e)\n", r[0], mag, r[1],
                 err, r[2]);
-    if (r[1] > 0.0) EXPECT_NEAR(mag, r[1], 0.02 * r[1] + 0.005);
+    if (r[1] > 0.0) {
+      EXPECT_NEAR(mag, r[1], 0.02 * r[1] + 0.005);
+    }
     EXPECT_LT(err, std::max(3.0 * r[2], 1e-7));
   }
   // (a, b) at |f^| = 1..4.

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "core/shadows/sh.h"
+
 namespace atmo::core {
 
 namespace {
@@ -50,6 +52,8 @@ SkyLighting compute_sky_lighting(const Scene& scene, const twin::Lut2D& transmit
       const glm::dvec3 radiance(r.diffuse);
       const std::array<double, 9> y = sh9_basis(n);
       for (int k = 0; k < 9; ++k) radiance_sh[k] += radiance * (y[k] * solid_angle);
+      const std::vector<double> y16 = shadows::sh_basis(4, n);
+      for (int k = 0; k < 16; ++k) out.radiance_sh16[k] += radiance * (y16[k] * solid_angle);
       if (z > 0.0) {
         horizontal += radiance * (z * solid_angle);
         upper_sum += radiance;

@@ -22,6 +22,9 @@ struct SkyLighting {
   std::array<glm::dvec3, 9> irradiance_sh9{};  // E_k, lux, linear RGB
   glm::dvec3 horizontal_illuminance_lux{0.0};   // E(up), sky only, by direct quadrature (not through the SH)
   glm::dvec3 average_radiance{0.0};             // cd/m^2, mean over the upper hemisphere, sky only
+  // The radiance itself to order 4 (16 coefficients, core/shadows/sh.h's basis, cd/m^2, ENU), for the sky's
+  // occlusion by the host's objects (atmo_sky_occlusion.glsl).
+  std::array<glm::dvec3, 16> radiance_sh16{};
 };
 
 // The 9 basis functions at a unit direction.
