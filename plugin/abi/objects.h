@@ -13,6 +13,7 @@
 #include "abi/cloud_inputs.h"
 #include "abi/fog_inputs.h"
 #include "abi/light_inputs.h"
+#include "abi/occluder_inputs.h"
 #include "core/lights/light_clusters.h"
 #include "abi/host_services.h"
 #include "abi/table_builder.h"
@@ -28,6 +29,7 @@
 #include "gl/fog_renderer.h"
 #include "gl/light_point_renderer.h"
 #include "gl/night_renderer.h"
+#include "gl/occlusion_textures.h"
 #include "gl/renderer.h"
 
 struct AtmoView_T;
@@ -76,6 +78,11 @@ struct AtmoContext_T {
   atmo::gl::LightPointRenderer light_point_renderer;
   uint64_t fog_serial = 0;  // bumps on every change of the fog or the lights (the views' fog frames follow)
   bool warned_old_fog_lighting = false;  // a host's AtmoFogLighting from before the clusters was told once
+
+  // The host's objects as occluders of the sky (set_occluders, set_occluder_poses) and their textures
+  // (get_sky_occlusion).
+  atmo::abi::ContextOccluders occluders;
+  atmo::gl::OcclusionTextures occlusion_textures;
 
   atmo::gl::Renderer renderer;
   // The night sky's point pass: its programs are built by the first night

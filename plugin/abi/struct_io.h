@@ -36,6 +36,11 @@ ATMO_V1_SIZE(AtmoFogLighting, 136);
 ATMO_V1_SIZE(AtmoLightPoint, 96);
 ATMO_V1_SIZE(AtmoLightGroupPose, 152);
 ATMO_V1_SIZE(AtmoLightsUpdate, 40);
+ATMO_V1_SIZE(AtmoOccluderSphere, 32);
+ATMO_V1_SIZE(AtmoOccluderObject, 168);
+ATMO_V1_SIZE(AtmoOccludersState, 64);
+ATMO_V1_SIZE(AtmoOccluderPoses, 32);
+ATMO_V1_SIZE(AtmoSkyOcclusion, 2312);
 #undef ATMO_V1_SIZE
 
 struct ReadError {

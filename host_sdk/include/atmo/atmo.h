@@ -132,6 +132,9 @@ typedef enum AtmoStructType {
   ATMO_TYPE_FOG_LIGHTING = 0x41540010,
   ATMO_TYPE_LIGHT_GROUP_POSE = 0x41540011,
   ATMO_TYPE_LIGHTS_UPDATE = 0x41540012,
+  ATMO_TYPE_OCCLUDERS_STATE = 0x41540013,
+  ATMO_TYPE_OCCLUDER_POSES = 0x41540014,
+  ATMO_TYPE_SKY_OCCLUSION = 0x41540015,
   ATMO_TYPE_MAX_ENUM = 0x7fffffff
 } AtmoStructType;
 
@@ -769,6 +772,84 @@ typedef struct AtmoFogLighting {
 } AtmoFogLighting;
 
 /* ------------------------------------------------------------------------ */
+/* The host's objects as occluders of the sky (docs/SKY_OCCLUSION.md)        */
+/* ------------------------------------------------------------------------ */
+
+/* The most objects a context holds, spheres an object holds, and spheres in all. */
+#define ATMO_OCCLUDER_OBJECTS_MAX 4096u
+#define ATMO_OCCLUDER_SPHERES_MAX 1024u
+#define ATMO_OCCLUDER_SPHERES_TOTAL_MAX 65536u
+
+/* One sphere of an object, in the object's own frame (metres). `atmo spheres MESH -n K` fits them to a
+   mesh; they should hold the object (a receiver inside one of its object's spheres is not shadowed by it). */
+typedef struct AtmoOccluderSphere {
+  double centre_m[3];           /* each [-1e5, 1e5] */
+  double radius_m;              /* [0, 1e5]; 0: ignored */
+} AtmoOccluderSphere;
+
+/* One object (an aircraft, a vehicle, a hangar): its spheres and how it reflects the sky. */
+typedef struct AtmoOccluderObject {
+  const AtmoOccluderSphere* spheres; /* sphere_count entries, sphere_size bytes apart; copied */
+  uint32_t sphere_count;        /* [0, ATMO_OCCLUDER_SPHERES_MAX] */
+  uint32_t sphere_size;         /* sizeof(AtmoOccluderSphere) as the host compiled it; 0: 32 */
+  double albedo[3];             /* diffuse reflectance, linear RGB, each [0, 1] (the bounce) */
+  /* Column-major 4x4, rigid (a rotation to 1e-3, det > 0, bottom row 0 0 0 1, translation within
+     [-1e9, 1e9] m): the object's frame to the occluders' world frame. set_occluder_poses moves it. */
+  double world_from_object[16];
+} AtmoOccluderObject;
+
+/* AtmoOccludersState.flags */
+typedef enum AtmoOcclusionFlags {
+  ATMO_OCCLUSION_NO_BOUNCE = 1u,      /* no light reflected by the objects (bounce_lux 0; cheaper) */
+  ATMO_OCCLUSION_OPTIMAL_LINEAR = 2u  /* the optimal-linear exponential alone (cheaper, brighter under large
+                                         objects) instead of the hybrid (docs/SKY_OCCLUSION.md) */
+} AtmoOcclusionFlags;
+
+/* Replaces every object (set_occluders). */
+typedef struct AtmoOccludersState {
+  AtmoStructHeader header;      /* ATMO_TYPE_OCCLUDERS_STATE */
+  uint32_t world_frame;         /* AtmoWorldFrame of the poses */
+  uint32_t object_size;         /* sizeof(AtmoOccluderObject) as the host compiled it; 0: 168 */
+  double world_origin_geodetic[3]; /* ATMO_WORLD_ENU: the frame's origin (lat deg, lon deg, h m) */
+  const AtmoOccluderObject* objects; /* object_count entries, object_size bytes apart; copied */
+  uint32_t object_count;        /* [0, ATMO_OCCLUDER_OBJECTS_MAX]; 0: no occluders */
+  uint32_t flags;               /* AtmoOcclusionFlags */
+} AtmoOccludersState;
+
+/* Moves objects [first, first + count) without re-sending their spheres: one column-major rigid 4x4 each,
+   16 doubles apart (as AtmoOccluderObject.world_from_object). */
+typedef struct AtmoOccluderPoses {
+  AtmoStructHeader header;      /* ATMO_TYPE_OCCLUDER_POSES */
+  uint32_t first;
+  uint32_t count;
+  const double* world_from_object; /* count x 16 doubles */
+} AtmoOccluderPoses;
+
+/* What a host's surface shader needs for atmo_sky_occlusion.glsl (its header says how to bind each field;
+   docs/SKY_OCCLUSION.md). Filled by get_sky_occlusion; the textures are valid until the next
+   get_sky_occlusion, gl_shutdown or gl_context_lost. */
+typedef struct AtmoSkyOcclusion {
+  AtmoStructHeader header;      /* ATMO_TYPE_SKY_OCCLUSION; the host sets header, the plugin fills the rest */
+  uint32_t object_count;        /* 0: no occluders (shade with get_lighting's SH9; the textures are 0) */
+  uint32_t tables;              /* GL_TEXTURE_2D RGBA32F 256 x 3, linear: atmo_occ_tables */
+  uint32_t spheres;             /* GL_TEXTURE_2D RGBA32F: atmo_occ_spheres */
+  uint32_t objects;             /* GL_TEXTURE_2D RGBA32F: atmo_occ_objects */
+  uint32_t tiles;               /* GL_TEXTURE_2D RG32UI: atmo_occ_tiles */
+  uint32_t tile_objects;        /* GL_TEXTURE_2D R32UI: atmo_occ_tile_objects */
+  double tile_from_position[16];/* atmo_occ_tile_from_position (column-major) */
+  double enu_from_world[9];     /* atmo_occ_enu_from_world (column-major) */
+  double grid[4];               /* atmo_occ_grid */
+  double limits[4];             /* atmo_occ_limits */
+  double sun[4];                /* atmo_occ_sun */
+  double sun_lux[3];            /* atmo_occ_sun_lux */
+  uint32_t longest_tile_list;   /* the most objects a tile lists (the cost's bound) */
+  uint32_t reserved;
+  float sky_sh9[27];            /* atmo_occ_sky_sh9 (9 vec3) */
+  float sun_sh9[27];            /* atmo_occ_sun_sh9 (9 vec3) */
+  float transfer[432];          /* atmo_occ_transfer (108 vec4) */
+} AtmoSkyOcclusion;
+
+/* ------------------------------------------------------------------------ */
 /* Lighting for the host's own shading                                       */
 /* ------------------------------------------------------------------------ */
 
@@ -934,6 +1015,18 @@ typedef struct AtmoPluginApi {
      error nothing changes and the message names the bad light's index.
      1 000 lights take < 1 ms. [ctx-sync][no-gl] */
   AtmoResult (*update_lights)(AtmoContext context, const AtmoLightsUpdate* update);
+
+  /* --- Added with sky occlusion (a host whose table ends above gets NULL here) --- */
+  /* Replaces the occluding objects (AtmoOccludersState; NULL or object_count 0: none). Copies the
+     spheres and prepares each object's bound and far stand-in (~1 ms an object of 32 spheres). On error
+     nothing changes and the message names the object's and the sphere's index. [ctx-sync][no-gl] */
+  AtmoResult (*set_occluders)(AtmoContext context, const AtmoOccludersState* state);
+  /* Moves objects (AtmoOccluderPoses); 16 objects take microseconds. On error nothing moves. [ctx-sync][no-gl] */
+  AtmoResult (*set_occluder_poses)(AtmoContext context, const AtmoOccluderPoses* poses);
+  /* The objects' sky occlusion for the host's surface shaders this frame (uploads them relative to this
+     view's eye, and per screen tile the objects near enough to shade). Needs gl_init, set_frame and
+     set_view. Without objects: ATMO_STATUS_NOTHING_TO_DRAW and object_count 0. [ctx-sync][gl-current] */
+  AtmoResult (*get_sky_occlusion)(AtmoView view, AtmoSkyOcclusion* out_occlusion);
 } AtmoPluginApi;
 
 /* The one exported entry point. The host fills `host` and sets

@@ -27,7 +27,7 @@
 //     atmo_occ_enu_from_world     = mat3(occ.enu_from_world)
 //     atmo_occ_grid    = vec4(occ.grid)      atmo_occ_limits = vec4(occ.limits)
 //     atmo_occ_sun     = vec4(occ.sun)       atmo_occ_sun_lux = vec3(occ.sun_lux)
-//     atmo_occ_sky_sh9[9], atmo_occ_sphere_sh9[9] (vec3), atmo_occ_transfer[108] (vec4)
+//     atmo_occ_sky_sh9[9], atmo_occ_sun_sh9[9] (vec3), atmo_occ_transfer[108] (vec4)
 //   then, per fragment:
 //     AtmoSkyOcclusion o = atmo_sky_occlusion(position_rel_eye_m, normal);
 //     vec3 L = albedo / pi * (o.sky_lux + o.bounce_lux
@@ -186,7 +186,7 @@ uniform vec4 atmo_occ_limits;              // sin theta below which a sphere is 
 uniform vec4 atmo_occ_sun;                 // unit direction to the Sun, ENU; 0
 uniform vec3 atmo_occ_sun_lux;             // the Sun's illuminance facing it (for the bounce)
 uniform vec3 atmo_occ_sky_sh9[9];          // the sky's irradiance, SH9, lux
-uniform vec3 atmo_occ_sphere_sh9[9];       // irradiance on an object's surface by normal (sky + Sun), SH9, lux
+uniform vec3 atmo_occ_sun_sh9[9];          // the Sun's irradiance on an object's surface by normal, SH9, lux
 uniform vec4 atmo_occ_transfer[108];       // the sky's product matrix against the cosine (see AtmoSkyOcclusion)
 
 vec4 atmo_occ_table(float u, float row) {
@@ -208,7 +208,7 @@ uint atmo_occ_tile_object(uint entry) {
 }
 vec4 atmo_occ_transfer_at(int k) { return atmo_occ_transfer[k]; }
 vec3 atmo_occ_sky_sh9_at(int k) { return atmo_occ_sky_sh9[k]; }
-vec3 atmo_occ_sphere_sh9_at(int k) { return atmo_occ_sphere_sh9[k]; }
+vec3 atmo_occ_sun_sh9_at(int k) { return atmo_occ_sun_sh9[k]; }
 vec4 atmo_occ_grid_value() { return atmo_occ_grid; }
 vec4 atmo_occ_limits_value() { return atmo_occ_limits; }
 vec4 atmo_occ_sun_value() { return atmo_occ_sun; }
@@ -241,6 +241,15 @@ ATMO_OCC_FN AtmoOccSh atmo_occ_exp_hybrid(AtmoOccSh f) {
   return atmo_occ_add(atmo_occ_sh(vec4(0.0f), vec4(0.0f), vec4(0.0f), vec4(0.0f)), g, scale);
 }
 
+// sum_k sh9_k f_k over the first 9 coefficients of f: the sky's (which 0) or the Sun's (1) irradiance SH9.
+ATMO_OCC_FN vec3 atmo_occ_sh9_dot(int which, AtmoOccSh f) {
+  vec3 r = vec3(0.0f);
+  float c[9];
+  c[0] = f.a.x; c[1] = f.a.y; c[2] = f.a.z; c[3] = f.a.w; c[4] = f.b.x; c[5] = f.b.y; c[6] = f.b.z; c[7] = f.b.w; c[8] = f.c.x;
+  for (int k = 0; k < 9; ++k) r += c[k] * (which == 0 ? atmo_occ_sky_sh9_at(k) : atmo_occ_sun_sh9_at(k));
+  return r;
+}
+
 // One sphere's part (its weight w in [0, 1]) in the running log-visibility, the Sun's visibility and the
 // bounce (prev: exp of the log before it, for the bounce's telescoping visibilities).
 ATMO_OCC_FN void atmo_occ_add_sphere(vec4 sphere_rel, vec3 n, AtmoOccSh rho, vec3 albedo, float w, bool bounce,
@@ -271,11 +280,11 @@ ATMO_OCC_FN void atmo_occ_add_sphere(vec4 sphere_rel, vec3 n, AtmoOccSh rho, vec
     // the direction from its centre to p (-omega: odd bands change sign).
     vec4 k = atmo_occ_table(u, 1.0f);
     AtmoOccSh f = atmo_occ_rotate(k, atmo_occ_sh(y.a * vec4(1.0f, -1.0f, -1.0f, -1.0f), y.b, y.c * vec4(1.0f, -1.0f, -1.0f, -1.0f), -y.d));
-    vec3 e = atmo_occ_sphere_sh9_at(0) * f.a.x + atmo_occ_sphere_sh9_at(1) * f.a.y + atmo_occ_sphere_sh9_at(2) * f.a.z +
-             atmo_occ_sphere_sh9_at(3) * f.a.w + atmo_occ_sphere_sh9_at(4) * f.b.x + atmo_occ_sphere_sh9_at(5) * f.b.y +
-             atmo_occ_sphere_sh9_at(6) * f.b.z + atmo_occ_sphere_sh9_at(7) * f.b.w + atmo_occ_sphere_sh9_at(8) * f.c.x;
+    // Sky and Sun apart: the Sun's clamped cosine rings negative in 9 coefficients on the surface turned
+    // from it, which would cancel the sky's light there.
+    vec3 e = max(atmo_occ_sh9_dot(0, f), vec3(0.0f)) + max(atmo_occ_sh9_dot(1, f), vec3(0.0f));
     // Radiance albedo E / pi over the cosine-weighted fraction it fills (seen): irradiance albedo E seen.
-    bounce_lux += albedo * max(e, vec3(0.0f)) * seen;
+    bounce_lux += albedo * e * seen;
     prev = next;
   }
   log_v = atmo_occ_add(log_v, g, 1.0f);
@@ -287,10 +296,7 @@ ATMO_OCC_FN AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 no
   vec3 p = enu * position_rel_eye_m;
   vec3 n = normalize(enu * normal_world);
   AtmoOccSh y = atmo_occ_basis(n);
-  vec3 open = atmo_occ_sky_sh9_at(0) * y.a.x + atmo_occ_sky_sh9_at(1) * y.a.y + atmo_occ_sky_sh9_at(2) * y.a.z +
-              atmo_occ_sky_sh9_at(3) * y.a.w + atmo_occ_sky_sh9_at(4) * y.b.x + atmo_occ_sky_sh9_at(5) * y.b.y +
-              atmo_occ_sky_sh9_at(6) * y.b.z + atmo_occ_sky_sh9_at(7) * y.b.w + atmo_occ_sky_sh9_at(8) * y.c.x;
-  open = max(open, vec3(0.0f));
+  vec3 open = max(atmo_occ_sh9_dot(0, y), vec3(0.0f));
   AtmoSkyOcclusion out_;
   out_.sky_lux = open;
   out_.sun_visibility = 1.0f;
@@ -354,7 +360,12 @@ ATMO_OCC_FN AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 no
   }
   out_.sky_lux = clamp(sky, vec3(0.0f), open);
   out_.sun_visibility = clamp(sun_v, 0.0f, 1.0f);
-  out_.bounce_lux = max(bounce_lux, vec3(0.0f));
+  // The bounce's visibilities came from the optimal-linear exponential, which runs bright under large
+  // occluders: scale them to hide what the sky's (hybrid) visibility hides.
+  float hidden = 1.0f - atmo_occ_dot(rho, v);
+  float hidden_linear = 1.0f - atmo_occ_dot(rho, prev);
+  float scale = hidden_linear > 1.0e-4f ? clamp(hidden / hidden_linear, 0.0f, 4.0f) : 1.0f;
+  out_.bounce_lux = max(bounce_lux * scale, vec3(0.0f));
   out_.sky_visibility = clamp(atmo_occ_dot(rho, v), 0.0f, 1.0f);
   return out_;
 }

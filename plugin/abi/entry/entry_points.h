@@ -32,6 +32,9 @@ AtmoResult get_cloud_shadows(AtmoView view, AtmoCloudShadows* out);
 AtmoResult set_fog(AtmoContext context, const AtmoFogState* state);
 AtmoResult set_lights(AtmoContext context, const AtmoLightsState* state);
 AtmoResult get_fog_lighting(AtmoView view, AtmoFogLighting* out);
+AtmoResult set_occluders(AtmoContext context, const AtmoOccludersState* state);
+AtmoResult set_occluder_poses(AtmoContext context, const AtmoOccluderPoses* poses);
+AtmoResult get_sky_occlusion(AtmoView view, AtmoSkyOcclusion* out);
 AtmoResult set_light_group_pose(AtmoContext context, const AtmoLightGroupPose* pose);
 AtmoResult update_lights(AtmoContext context, const AtmoLightsUpdate* update);
 

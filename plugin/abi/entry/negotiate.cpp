@@ -85,6 +85,9 @@ const AtmoPluginApi kApi = {
     &entry::get_fog_lighting,
     &entry::set_light_group_pose,
     &entry::update_lights,
+    &entry::set_occluders,
+    &entry::set_occluder_poses,
+    &entry::get_sky_occlusion,
 };
 
 }  // namespace

@@ -115,7 +115,7 @@ SkyTransfer make_sky_transfer(const std::vector<glm::dvec3>& radiance_sh16, cons
   const ShVector sun = rotate_zh(zh, sun_direction_enu);
   for (int k = 0; k < 9; ++k)
     for (int c = 0; c < 3; ++c)
-      out.sphere_sh9[k * 3 + c] = out.sky_sh9[k * 3 + c] + static_cast<float>(M_PI * sun[k] * sun_illuminance_lux[c]);
+      out.sun_sh9[k * 3 + c] = static_cast<float>(M_PI * sun[k] * sun_illuminance_lux[c]);
   return out;
 }
 

@@ -48,8 +48,8 @@ struct SkyTransfer {
   // pi (M_{L_c})_{i k}, i = 0..15, of the sky radiance's product matrix: E_c = sum_k rho_k sum_i pi M_ik V_i.
   std::array<float, 432> transfer{};
   std::array<float, 27> sky_sh9{};     // atmo_occ_sky_sh9: the sky's irradiance SH9 (lux), = the transfer at V = 1
-  std::array<float, 27> sphere_sh9{};  // atmo_occ_sphere_sh9: irradiance on an occluder's surface by its
-                                       // normal (sky + Sun, lux), for its bounce
+  std::array<float, 27> sun_sh9{};     // atmo_occ_sun_sh9: the Sun's irradiance on an occluder's surface by
+                                       // its normal (lux), for its bounce (the sky's is sky_sh9)
 };
 // From the sky's radiance SH16 (ENU, rgb, cd/m^2 or W m^-2 sr^-1) and the Sun (unit ENU direction,
 // illuminance on a surface facing it, lux).

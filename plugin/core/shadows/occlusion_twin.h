@@ -62,8 +62,8 @@ inline vec3 atmo_occ_sky_sh9_at(int k) {
   const float* t = frame->sky.sky_sh9.data() + 3 * k;
   return vec3(t[0], t[1], t[2]);
 }
-inline vec3 atmo_occ_sphere_sh9_at(int k) {
-  const float* t = frame->sky.sphere_sh9.data() + 3 * k;
+inline vec3 atmo_occ_sun_sh9_at(int k) {
+  const float* t = frame->sky.sun_sh9.data() + 3 * k;
   return vec3(t[0], t[1], t[2]);
 }
 inline vec4 atmo_occ_grid_value() { return frame->grid; }
