@@ -14,8 +14,9 @@ TEST(StructLayout, Version1SizesAreFrozen) {
   EXPECT_EQ(sizeof(AtmoNegotiateInfo), V1Size<AtmoNegotiateInfo>::value);
   // The function table grew at its end (set_clouds); 144-byte hosts get no clouds.
   EXPECT_EQ(V1Size<AtmoPluginApi>::value, 144u);
-  // 160 with get_cloud_shadows, 184 with set_fog, set_lights, get_fog_lighting; then the light groups' two
-  EXPECT_EQ(sizeof(AtmoPluginApi), 200u);
+  // 160 with get_cloud_shadows, 184 with set_fog, set_lights, get_fog_lighting, 200 with the light groups' two;
+  // then sky occlusion's three (set_occluders, set_occluder_poses, get_sky_occlusion)
+  EXPECT_EQ(sizeof(AtmoPluginApi), 224u);
   EXPECT_EQ(sizeof(AtmoFogState), V1Size<AtmoFogState>::value);
   // AtmoLightsState grew at its end (group, visual_threshold_lux); 72-byte hosts replace group 0.
   EXPECT_EQ(V1Size<AtmoLightsState>::value, 72u);
@@ -25,6 +26,17 @@ TEST(StructLayout, Version1SizesAreFrozen) {
   EXPECT_EQ(sizeof(AtmoLightPoint), 104u);
   EXPECT_EQ(sizeof(AtmoLightGroupPose), V1Size<AtmoLightGroupPose>::value);
   EXPECT_EQ(sizeof(AtmoLightsUpdate), V1Size<AtmoLightsUpdate>::value);
+  // Sky occlusion by the host's objects (sphere sets).
+  EXPECT_EQ(sizeof(AtmoOccluderSphere), V1Size<AtmoOccluderSphere>::value);
+  EXPECT_EQ(sizeof(AtmoOccluderSphere), 32u);
+  EXPECT_EQ(sizeof(AtmoOccluderObject), V1Size<AtmoOccluderObject>::value);
+  EXPECT_EQ(sizeof(AtmoOccluderObject), 168u);
+  EXPECT_EQ(sizeof(AtmoOccludersState), V1Size<AtmoOccludersState>::value);
+  EXPECT_EQ(sizeof(AtmoOccludersState), 64u);
+  EXPECT_EQ(sizeof(AtmoOccluderPoses), V1Size<AtmoOccluderPoses>::value);
+  EXPECT_EQ(sizeof(AtmoOccluderPoses), 32u);
+  EXPECT_EQ(sizeof(AtmoSkyOcclusion), V1Size<AtmoSkyOcclusion>::value);
+  EXPECT_EQ(sizeof(AtmoSkyOcclusion), 2312u);
   // AtmoFogLighting grew at its end (the clusters); a 136-byte host gets light_count 0 (its include predates them).
   EXPECT_EQ(V1Size<AtmoFogLighting>::value, 136u);
   // ... then again (the translucent surfaces' fields): a 400-byte host keeps its surfaces' lights.
@@ -62,6 +74,35 @@ TEST(StructLayout, Version1OffsetsAreFrozen) {
   EXPECT_EQ(offsetof(AtmoLightsState, group), 72u);
   EXPECT_EQ(offsetof(AtmoLightPoint, flags), 96u);
   EXPECT_EQ(offsetof(AtmoPluginApi, set_light_group_pose), 184u);
+  EXPECT_EQ(offsetof(AtmoPluginApi, update_lights), 192u);
+  EXPECT_EQ(offsetof(AtmoPluginApi, set_occluders), 200u);
+  EXPECT_EQ(offsetof(AtmoPluginApi, set_occluder_poses), 208u);
+  EXPECT_EQ(offsetof(AtmoPluginApi, get_sky_occlusion), 216u);
+  EXPECT_EQ(offsetof(AtmoOccluderObject, sphere_count), 8u);
+  EXPECT_EQ(offsetof(AtmoOccluderObject, sphere_size), 12u);
+  EXPECT_EQ(offsetof(AtmoOccluderObject, albedo), 16u);
+  EXPECT_EQ(offsetof(AtmoOccluderObject, world_from_object), 40u);
+  EXPECT_EQ(offsetof(AtmoOccludersState, world_frame), 16u);
+  EXPECT_EQ(offsetof(AtmoOccludersState, object_size), 20u);
+  EXPECT_EQ(offsetof(AtmoOccludersState, world_origin_geodetic), 24u);
+  EXPECT_EQ(offsetof(AtmoOccludersState, objects), 48u);
+  EXPECT_EQ(offsetof(AtmoOccludersState, object_count), 56u);
+  EXPECT_EQ(offsetof(AtmoOccludersState, flags), 60u);
+  EXPECT_EQ(offsetof(AtmoOccluderPoses, first), 16u);
+  EXPECT_EQ(offsetof(AtmoOccluderPoses, count), 20u);
+  EXPECT_EQ(offsetof(AtmoOccluderPoses, world_from_object), 24u);
+  EXPECT_EQ(offsetof(AtmoSkyOcclusion, object_count), 16u);
+  EXPECT_EQ(offsetof(AtmoSkyOcclusion, tile_objects), 36u);
+  EXPECT_EQ(offsetof(AtmoSkyOcclusion, tile_from_position), 40u);
+  EXPECT_EQ(offsetof(AtmoSkyOcclusion, enu_from_world), 168u);
+  EXPECT_EQ(offsetof(AtmoSkyOcclusion, grid), 240u);
+  EXPECT_EQ(offsetof(AtmoSkyOcclusion, limits), 272u);
+  EXPECT_EQ(offsetof(AtmoSkyOcclusion, sun), 304u);
+  EXPECT_EQ(offsetof(AtmoSkyOcclusion, sun_lux), 336u);
+  EXPECT_EQ(offsetof(AtmoSkyOcclusion, longest_tile_list), 360u);
+  EXPECT_EQ(offsetof(AtmoSkyOcclusion, sky_sh9), 368u);
+  EXPECT_EQ(offsetof(AtmoSkyOcclusion, sun_sh9), 476u);
+  EXPECT_EQ(offsetof(AtmoSkyOcclusion, transfer), 584u);
   EXPECT_EQ(offsetof(AtmoHostServices, gl_get_proc_address), 72u);
   EXPECT_EQ(offsetof(AtmoFrameState, utc_posix_s), 24u);
   EXPECT_EQ(offsetof(AtmoViewState, eye_ecef_m), 24u);
