@@ -29,7 +29,7 @@
 #include "gl/fog_renderer.h"
 #include "gl/light_point_renderer.h"
 #include "gl/night_renderer.h"
-#include "gl/occlusion_textures.h"
+#include "gl/occlusion_renderer.h"
 #include "gl/renderer.h"
 
 struct AtmoView_T;
@@ -82,7 +82,7 @@ struct AtmoContext_T {
   // The host's objects as occluders of the sky (set_occluders, set_occluder_poses) and their textures
   // (get_sky_occlusion).
   atmo::abi::ContextOccluders occluders;
-  atmo::gl::OcclusionTextures occlusion_textures;
+  atmo::gl::OcclusionRenderer occlusion_renderer;
 
   atmo::gl::Renderer renderer;
   // The night sky's point pass: its programs are built by the first night

@@ -461,13 +461,28 @@ typedef enum AtmoPass {
      ATMO_PASS_LIGHT_GLOWS (the points carry their own fog). NOTHING_TO_DRAW,
      with no GL call, when no light is visible. docs/FOG.md. */
   ATMO_PASS_LIGHT_POINTS = 5,
-  ATMO_PASS_COUNT = 6
+  /* The host's objects (set_occluders) shading its opaque surfaces, for a host
+     that does not shade them with atmo_sky_occlusion.glsl (its terrain, say):
+     colour *= the surface's light with the objects (their sky shadow, the
+     Sun's visibility past them, their bounce) / its light without (get_lighting's
+     sky SH9 and Sun), at the host depth, with the depth's normal or, with
+     ATMO_PASS_SKY_OCCLUSION_NORMAL_UP, facing up. Call after the surfaces it
+     shades and before ATMO_PASS_AERIAL_PERSPECTIVE; draw the surfaces that
+     use the include after it. NOTHING_TO_DRAW, with no GL call, without
+     objects or depth. docs/SKY_OCCLUSION.md. */
+  ATMO_PASS_SKY_OCCLUSION = 6,
+  ATMO_PASS_COUNT = 7
 } AtmoPass;
+
+/* AtmoPassInfo.flags */
+typedef enum AtmoPassFlags {
+  ATMO_PASS_SKY_OCCLUSION_NORMAL_UP = 1u  /* ATMO_PASS_SKY_OCCLUSION: every surface faces up (terrain) */
+} AtmoPassFlags;
 
 typedef struct AtmoPassInfo {
   AtmoStructHeader header; /* ATMO_TYPE_PASS_INFO */
   uint32_t pass;           /* AtmoPass */
-  uint32_t flags;          /* reserved, 0 */
+  uint32_t flags;          /* AtmoPassFlags the pass takes; 0 for the others */
 } AtmoPassInfo;
 
 /* ------------------------------------------------------------------------ */

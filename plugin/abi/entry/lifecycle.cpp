@@ -143,7 +143,7 @@ void drop_gl_objects(AtmoContext_T* ctx, bool destroy) {
   drop(ctx->cloud_renderer);
   drop(ctx->fog_renderer);
   drop(ctx->light_point_renderer);
-  drop(ctx->occlusion_textures);
+  drop(ctx->occlusion_renderer);
   drop(ctx->renderer);
   ctx->gl_alive = false;
   ctx->uploaded_tables_version = 0;

@@ -7,6 +7,7 @@
 
 #include "abi/entry/call.h"
 #include "abi/entry/entry_points.h"
+#include "abi/entry/passes.h"
 #include "abi/scene_inputs.h"
 #include "abi/world_frame.h"
 #include "core/scene/scene.h"
@@ -40,53 +41,61 @@ AtmoResult set_occluder_poses(AtmoContext context, const AtmoOccluderPoses* pose
                       });
 }
 
+namespace {
+
+// The view's occluders this frame, relative to its eye (core/shadows/occlusion_frame.h).
+shadows::OcclusionFrame view_occlusion_frame(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene) {
+  const ContextOccluders& occ = ctx->occluders;
+  const core::SkyLighting& sky = view_sky_lighting(ctx, view, scene);
+  const core::BodyIlluminance lit = core::body_illuminance(scene, ctx->transmittance, scene.eye_altitude_m);
+  const double sun_clouds = cloud_transmittance_from_eye(ctx->clouds, view->eye.eye_ecef_m, view->eye.ecef_from_enu,
+                                                         scene.sun_direction_enu);
+  const glm::dvec3 sun_lux = lit.sun_lux * sun_clouds;
+  // Each object's frame to ENU at the eye, relative to the eye (double: ECEF is millions of metres).
+  const glm::dmat3 enu_from_ecef = glm::transpose(view->eye.ecef_from_enu);
+  glm::dmat4 enu_rel_from_ecef(enu_from_ecef);
+  enu_rel_from_ecef[3] = glm::dvec4(-(enu_from_ecef * view->eye.eye_ecef_m), 1.0);
+  std::vector<const shadows::OccluderObject*> objects;
+  std::vector<glm::dmat4> poses;
+  for (size_t i = 0; i < occ.objects.size(); ++i) {
+    objects.push_back(&occ.objects[i]);
+    poses.push_back(enu_rel_from_ecef * occ.ecef_from_world * occ.world_from_object[i]);
+  }
+  // The view's world axes: the host's positions relative to the eye are in them.
+  const glm::dmat3 world_from_ecef =
+      glm::transpose(glm::dmat3(ecef_from_world_frame(view->state.world_frame, view->state.world_origin_geodetic)));
+  const glm::dmat3 world_from_enu = world_from_ecef * view->eye.ecef_from_enu;
+  const glm::dmat3 enu_from_world = glm::transpose(world_from_enu);
+  const glm::dmat4 clip_from_enu =
+      glm::inverse(view->eye.view_from_clip) * glm::dmat4(glm::transpose(view->eye.enu_from_view));
+  const glm::dmat4 clip_from_world = clip_from_enu * glm::dmat4(enu_from_world);
+  const std::vector<glm::dvec3> radiance(sky.radiance_sh16.begin(), sky.radiance_sh16.end());
+  shadows::OcclusionLimits limits;
+  limits.bounce = !(occ.flags & ATMO_OCCLUSION_NO_BOUNCE);
+  limits.hybrid = !(occ.flags & ATMO_OCCLUSION_OPTIMAL_LINEAR);
+  return shadows::make_occlusion_frame(objects, poses, clip_from_world, enu_from_world, view->state.viewport[2],
+                                       view->state.viewport[3],
+                                       shadows::make_sky_transfer(radiance, scene.sun_direction_enu, sun_lux),
+                                       scene.sun_direction_enu, sun_lux, limits);
+}
+
+}  // namespace
+
 AtmoResult get_sky_occlusion(AtmoView view_handle, AtmoSkyOcclusion* out) {
   return view_output_call(
       view_handle, "get_sky_occlusion", out, ATMO_TYPE_SKY_OCCLUSION, "AtmoSkyOcclusion", true,
       [&](AtmoContext_T* ctx, AtmoView_T* view, AtmoSkyOcclusion& o) -> AtmoResult {
         std::memset(reinterpret_cast<char*>(&o) + sizeof(o.header), 0, sizeof(o) - sizeof(o.header));
-        const ContextOccluders& occ = ctx->occluders;
-        if (occ.objects.empty()) return ATMO_STATUS_NOTHING_TO_DRAW;
-        const core::Scene scene = prepare_scene(ctx, *view);
-        const core::SkyLighting& sky = view_sky_lighting(ctx, view, scene);
-        const core::BodyIlluminance lit = core::body_illuminance(scene, ctx->transmittance, scene.eye_altitude_m);
-        const double sun_clouds = cloud_transmittance_from_eye(ctx->clouds, view->eye.eye_ecef_m,
-                                                               view->eye.ecef_from_enu, scene.sun_direction_enu);
-        const glm::dvec3 sun_lux = lit.sun_lux * sun_clouds;
-        // Each object's frame to ENU at the eye, relative to the eye (double: ECEF is millions of metres).
-        const glm::dmat3 enu_from_ecef = glm::transpose(view->eye.ecef_from_enu);
-        glm::dmat4 enu_rel_from_ecef(enu_from_ecef);
-        enu_rel_from_ecef[3] = glm::dvec4(-(enu_from_ecef * view->eye.eye_ecef_m), 1.0);
-        std::vector<const shadows::OccluderObject*> objects;
-        std::vector<glm::dmat4> poses;
-        for (size_t i = 0; i < occ.objects.size(); ++i) {
-          objects.push_back(&occ.objects[i]);
-          poses.push_back(enu_rel_from_ecef * occ.ecef_from_world * occ.world_from_object[i]);
-        }
-        // The view's world axes: the host's positions relative to the eye are in them.
-        const glm::dmat3 world_from_ecef = glm::transpose(
-            glm::dmat3(ecef_from_world_frame(view->state.world_frame, view->state.world_origin_geodetic)));
-        const glm::dmat3 world_from_enu = world_from_ecef * view->eye.ecef_from_enu;
-        const glm::dmat3 enu_from_world = glm::transpose(world_from_enu);
-        const glm::dmat4 clip_from_enu =
-            glm::inverse(view->eye.view_from_clip) * glm::dmat4(glm::transpose(view->eye.enu_from_view));
-        const glm::dmat4 clip_from_world = clip_from_enu * glm::dmat4(enu_from_world);
-        std::vector<glm::dvec3> radiance(sky.radiance_sh16.begin(), sky.radiance_sh16.end());
-        shadows::OcclusionLimits limits;
-        limits.bounce = !(occ.flags & ATMO_OCCLUSION_NO_BOUNCE);
-        limits.hybrid = !(occ.flags & ATMO_OCCLUSION_OPTIMAL_LINEAR);
-        const shadows::OcclusionFrame frame = shadows::make_occlusion_frame(
-            objects, poses, clip_from_world, enu_from_world, view->state.viewport[2], view->state.viewport[3],
-            shadows::make_sky_transfer(radiance, scene.sun_direction_enu, sun_lux), scene.sun_direction_enu, sun_lux,
-            limits);
+        if (ctx->occluders.objects.empty()) return ATMO_STATUS_NOTHING_TO_DRAW;
+        const shadows::OcclusionFrame frame = view_occlusion_frame(ctx, view, prepare_scene(ctx, *view));
         std::string error;
-        if (!ctx->occlusion_textures.upload(frame, &error)) return fail(ctx, ATMO_ERROR_GL, "get_sky_occlusion", error);
-        o.object_count = static_cast<uint32_t>(occ.objects.size());
-        o.tables = ctx->occlusion_textures.tables();
-        o.spheres = ctx->occlusion_textures.spheres();
-        o.objects = ctx->occlusion_textures.objects();
-        o.tiles = ctx->occlusion_textures.tiles();
-        o.tile_objects = ctx->occlusion_textures.tile_objects();
+        if (!ctx->occlusion_renderer.upload(frame, &error)) return fail(ctx, ATMO_ERROR_GL, "get_sky_occlusion", error);
+        o.object_count = static_cast<uint32_t>(ctx->occluders.objects.size());
+        o.tables = ctx->occlusion_renderer.tables();
+        o.spheres = ctx->occlusion_renderer.spheres();
+        o.objects = ctx->occlusion_renderer.objects();
+        o.tiles = ctx->occlusion_renderer.tiles();
+        o.tile_objects = ctx->occlusion_renderer.tile_objects();
         for (int c = 0; c < 4; ++c)
           for (int r = 0; r < 4; ++r) o.tile_from_position[c * 4 + r] = frame.tile_from_position[c][r];
         for (int c = 0; c < 3; ++c)
@@ -103,6 +112,15 @@ AtmoResult get_sky_occlusion(AtmoView view_handle, AtmoSkyOcclusion* out) {
         std::memcpy(o.transfer, frame.sky.transfer.data(), sizeof(o.transfer));
         return ATMO_SUCCESS;
       });
+}
+
+AtmoResult sky_occlusion_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene,
+                              const gl::PassInputs& inputs, uint32_t flags) {
+  const shadows::OcclusionFrame frame = view_occlusion_frame(ctx, view, scene);
+  std::string error;
+  if (!ctx->occlusion_renderer.draw(inputs, frame, (flags & ATMO_PASS_SKY_OCCLUSION_NORMAL_UP) != 0, &error))
+    return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_SKY_OCCLUSION)", error);
+  return ATMO_SUCCESS;
 }
 
 }  // namespace atmo::abi::entry

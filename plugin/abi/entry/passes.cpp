@@ -43,6 +43,10 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
                        return fail(ctx, ATMO_ERROR_INVALID_ARGUMENT, "render_pass",
                                    "AtmoPassInfo.pass = " + std::to_string(pass.pass) + " is not an AtmoPass");
                      }
+                     if (pass.flags & ~(pass.pass == ATMO_PASS_SKY_OCCLUSION ? uint32_t(ATMO_PASS_SKY_OCCLUSION_NORMAL_UP) : 0u)) {
+                       return fail(ctx, ATMO_ERROR_INVALID_ARGUMENT, "render_pass",
+                                   "AtmoPassInfo.flags = " + std::to_string(pass.flags) + " holds bits this pass does not take");
+                     }
                      if (AtmoResult r = require_frame_and_view(ctx, *view, "render_pass", true)) return r;
 
                      switch (pass.pass) {
@@ -57,6 +61,11 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
                          break;
                        case ATMO_PASS_AERIAL_PERSPECTIVE:
                          if (view->state.depth_texture == 0) return ATMO_STATUS_NOTHING_TO_DRAW;
+                         break;
+                       case ATMO_PASS_SKY_OCCLUSION:
+                         // No objects, or no surfaces to shade: no cost.
+                         if (ctx->occluders.objects.empty() || view->state.depth_texture == 0)
+                           return ATMO_STATUS_NOTHING_TO_DRAW;
                          break;
                        default:
                          break;
@@ -96,6 +105,8 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
                      if (pass.pass == ATMO_PASS_LIGHT_GLOWS) return fog_pass(ctx, view, scene, inputs);
                      if (pass.pass == ATMO_PASS_LIGHT_POINTS) return light_points_pass(ctx, view, scene, inputs);
                      if (pass.pass == ATMO_PASS_CLOUDS) return clouds_pass(ctx, view, scene, inputs);
+                     if (pass.pass == ATMO_PASS_SKY_OCCLUSION)
+                       return sky_occlusion_pass(ctx, view, scene, inputs, pass.flags);
                      bool ok = pass.pass == ATMO_PASS_SKY ? ctx->renderer.draw_sky(inputs, &error)
                                                           : ctx->renderer.draw_aerial_perspective(inputs, &error);
                      if (!ok) return fail(ctx, ATMO_ERROR_GL, "render_pass", error);

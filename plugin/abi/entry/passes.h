@@ -25,4 +25,8 @@ AtmoResult fog_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& sce
 AtmoResult light_points_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene,
                              const gl::PassInputs& inputs);
 
+// occlusion.cpp: ATMO_PASS_SKY_OCCLUSION (flags: AtmoPassInfo.flags).
+AtmoResult sky_occlusion_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene,
+                              const gl::PassInputs& inputs, uint32_t flags);
+
 }  // namespace atmo::abi::entry

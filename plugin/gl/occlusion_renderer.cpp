@@ -1,0 +1,158 @@
+#include "gl/occlusion_renderer.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "gl/gl_state_guard.h"
+#include "gl/pass_uniforms.h"
+#include "gl/shader_program.h"
+
+namespace atmo::gl {
+
+namespace {
+
+void texture_2d(GLuint* name, GLint format, GLsizei w, GLsizei h, GLenum layout, GLenum type, const void* data,
+                GLint filter) {
+  if (!*name) glGenTextures(1, name);
+  glBindTexture(GL_TEXTURE_2D, *name);
+  glTexImage2D(GL_TEXTURE_2D, 0, format, w, h, 0, layout, type, data);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
+// Rows of `per_row` elements of `components` values each, padded with zeros.
+template <typename T>
+std::vector<T> rows_of(const T* data, size_t count, size_t components, size_t per_row, GLsizei* rows) {
+  *rows = static_cast<GLsizei>(std::max<size_t>(1, (count + per_row - 1) / per_row));
+  std::vector<T> out(static_cast<size_t>(*rows) * per_row * components, T(0));
+  std::copy(data, data + count * components, out.begin());
+  return out;
+}
+
+}  // namespace
+
+bool OcclusionRenderer::upload(const shadows::OcclusionFrame& frame, std::string* error) {
+  GlStateGuard guard(1);
+  glActiveTexture(GL_TEXTURE0);
+  if (!tables_) {
+    const shadows::OcclusionTables& t = shadows::occlusion_tables();
+    texture_2d(&tables_, GL_RGBA32F, shadows::OcclusionTables::kSize, shadows::OcclusionTables::kRows, GL_RGBA,
+               GL_FLOAT, t.texels.data(), GL_LINEAR);
+  }
+  GLsizei rows = 0;
+  const glm::vec4 none(0.0f);
+  const std::vector<float> spheres =
+      rows_of(&(frame.spheres.empty() ? none : frame.spheres[0]).x, frame.spheres.size(), 4, 1024, &rows);
+  texture_2d(&spheres_, GL_RGBA32F, 1024, rows, GL_RGBA, GL_FLOAT, spheres.data(), GL_NEAREST);
+  const std::vector<float> objects =
+      rows_of(&(frame.objects.empty() ? none : frame.objects[0]).x, frame.objects.size(), 4, 1024, &rows);
+  texture_2d(&objects_, GL_RGBA32F, 1024, rows, GL_RGBA, GL_FLOAT, objects.data(), GL_NEAREST);
+  texture_2d(&tiles_, GL_RG32UI, frame.tiles_x, frame.tiles_y, GL_RG_INTEGER, GL_UNSIGNED_INT, frame.tiles.data(),
+             GL_NEAREST);
+  const uint32_t zero = 0;
+  const std::vector<uint32_t> lists = rows_of(frame.tile_objects.empty() ? &zero : frame.tile_objects.data(),
+                                              frame.tile_objects.size(), 1, 4096, &rows);
+  texture_2d(&tile_objects_, GL_R32UI, 4096, rows, GL_RED_INTEGER, GL_UNSIGNED_INT, lists.data(), GL_NEAREST);
+  return check_gl("uploading the occluders", error);
+}
+
+namespace {
+// The include's textures on the units after the pass's tables.
+constexpr GLuint kTablesUnit = kPassUnitsUsed, kSpheresUnit = kTablesUnit + 1, kObjectsUnit = kTablesUnit + 2,
+                 kTilesUnit = kTablesUnit + 3, kTileObjectsUnit = kTablesUnit + 4;
+constexpr int kUnitsUsed = static_cast<int>(kTileObjectsUnit) + 1;
+static_assert(kUnitsUsed <= GlStateGuard::kMaxUnits, "the guard saves every unit the pass binds");
+}  // namespace
+
+bool OcclusionRenderer::build_program(std::string* error) {
+  if (program_) return true;
+  program_ = gl::build_program("fullscreen.vert", "sky_occlusion.frag", "", error);
+  if (!program_) return false;
+  pass_ = locate_pass_uniforms(program_);
+  const auto at = [this](const char* name) { return glGetUniformLocation(program_, name); };
+  u_tables_ = at("atmo_occ_tables");
+  u_spheres_ = at("atmo_occ_spheres");
+  u_objects_ = at("atmo_occ_objects");
+  u_tiles_ = at("atmo_occ_tiles");
+  u_tile_objects_ = at("atmo_occ_tile_objects");
+  u_tile_from_position_ = at("atmo_occ_tile_from_position");
+  u_enu_from_world_ = at("atmo_occ_enu_from_world");
+  u_grid_ = at("atmo_occ_grid");
+  u_limits_ = at("atmo_occ_limits");
+  u_sun_ = at("atmo_occ_sun");
+  u_sun_lux_ = at("atmo_occ_sun_lux");
+  u_sky_sh9_ = at("atmo_occ_sky_sh9");
+  u_sun_sh9_ = at("atmo_occ_sun_sh9");
+  u_transfer_ = at("atmo_occ_transfer");
+  u_normal_up_ = at("u_normal_up");
+  create_pass_samplers(&linear_sampler_, &nearest_sampler_);
+  glGenVertexArrays(1, &vao_);
+  return check_gl("building the sky-occlusion program", error);
+}
+
+bool OcclusionRenderer::draw(const PassInputs& in, const shadows::OcclusionFrame& frame, bool normal_up,
+                             std::string* error) {
+  GlStateGuard guard(kUnitsUsed);
+  if (!build_program(error) || !upload(frame, error)) return false;
+  guard.use_single_draw_buffer();
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glActiveTexture(GL_TEXTURE0 + kDepthUnit);
+  glBindTexture(GL_TEXTURE_2D, in.depth_texture);
+  glBindSampler(kDepthUnit, nearest_sampler_);
+  const std::pair<GLuint, GLuint> bound[] = {{kTablesUnit, tables_},
+                                             {kSpheresUnit, spheres_},
+                                             {kObjectsUnit, objects_},
+                                             {kTilesUnit, tiles_},
+                                             {kTileObjectsUnit, tile_objects_}};
+  for (const auto& [unit, texture] : bound) {
+    glActiveTexture(GL_TEXTURE0 + unit);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glBindSampler(unit, unit == kTablesUnit ? linear_sampler_ : nearest_sampler_);
+  }
+  glUseProgram(program_);
+  set_pass_uniforms(pass_, in, PassTableSizes{}, 1, NightTerms{});
+  glUniform1i(u_tables_, static_cast<GLint>(kTablesUnit));
+  glUniform1i(u_spheres_, static_cast<GLint>(kSpheresUnit));
+  glUniform1i(u_objects_, static_cast<GLint>(kObjectsUnit));
+  glUniform1i(u_tiles_, static_cast<GLint>(kTilesUnit));
+  glUniform1i(u_tile_objects_, static_cast<GLint>(kTileObjectsUnit));
+  // The pass hands the include ENU positions: its "world" is ENU at the eye.
+  const glm::mat4 tile_from_enu = frame.tile_from_position * glm::mat4(glm::transpose(frame.enu_from_world));
+  const glm::mat3 identity(1.0f);
+  glUniformMatrix4fv(u_tile_from_position_, 1, GL_FALSE, &tile_from_enu[0][0]);
+  glUniformMatrix3fv(u_enu_from_world_, 1, GL_FALSE, &identity[0][0]);
+  glUniform4fv(u_grid_, 1, &frame.grid[0]);
+  glUniform4fv(u_limits_, 1, &frame.limits[0]);
+  glUniform4fv(u_sun_, 1, &frame.sun[0]);
+  glUniform3fv(u_sun_lux_, 1, &frame.sun_lux[0]);
+  glUniform3fv(u_sky_sh9_, 9, frame.sky.sky_sh9.data());
+  glUniform3fv(u_sun_sh9_, 9, frame.sky.sun_sh9.data());
+  glUniform4fv(u_transfer_, 108, frame.sky.transfer.data());
+  glUniform1i(u_normal_up_, normal_up ? 1 : 0);
+  glEnablei(GL_BLEND, 0);
+  // colour * factor; the host's alpha kept.
+  set_blend_of_buffer0(GL_DST_COLOR, GL_ZERO, GL_ZERO, GL_ONE, GL_FUNC_ADD, GL_FUNC_ADD);
+  glBindVertexArray(vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  return check_gl("drawing the objects' sky occlusion", error);
+}
+
+void OcclusionRenderer::destroy() {
+  for (GLuint t : {tables_, spheres_, objects_, tiles_, tile_objects_})
+    if (t) glDeleteTextures(1, &t);
+  if (program_) glDeleteProgram(program_);
+  if (vao_) glDeleteVertexArrays(1, &vao_);
+  for (GLuint s : {linear_sampler_, nearest_sampler_})
+    if (s) glDeleteSamplers(1, &s);
+  forget();
+}
+
+void OcclusionRenderer::forget() {
+  tables_ = spheres_ = objects_ = tiles_ = tile_objects_ = 0;
+  program_ = vao_ = linear_sampler_ = nearest_sampler_ = 0;
+}
+
+}  // namespace atmo::gl

@@ -1,0 +1,38 @@
+// ATMO_PASS_SKY_OCCLUSION: the host's objects' sky shadow, Sun shadow and
+// bounce on the host's opaque surfaces (its terrain), for a host that does not
+// shade them with atmo_sky_occlusion.glsl itself: each pixel's colour is
+// multiplied by the ratio of its light with the objects to its light without
+// (sky SH9 + Sun), for a surface at the host depth whose normal is the
+// depth's (or up: AtmoPassInfo.flags). docs/SKY_OCCLUSION.md.
+#include "atmosphere/pass_common.glsl"
+#include "../host_sdk/include/atmo/atmo_sky_occlusion.glsl"
+
+uniform int u_normal_up;  // 1: every surface faces up (terrain); 0: the normal from the depth's derivatives
+
+out vec4 out_factor;
+
+void main() {
+  vec2 ndc = ndc_xy();
+  vec4 p = view_point_from_depth(u_view_from_clip, ndc, host_depth(), u_depth_convention, u_log_far_m,
+                                 u_log_coefficient);
+  if (p.w < 0.0) discard;  // open sky: nothing to shade
+  // The include's "world" here is ENU at the eye (atmo_occ_enu_from_world is the identity).
+  vec3 position = u_enu_from_view * p.xyz;
+  vec3 normal = vec3(0.0, 0.0, 1.0);
+  if (u_normal_up == 0) {
+    vec3 n = cross(dFdx(position), dFdy(position));
+    normal = dot(n, n) > 1.0e-12 ? normalize(n) : normal;
+    if (dot(normal, position) > 0.0) normal = -normal;  // towards the eye
+  }
+  AtmoSkyOcclusion o = atmo_sky_occlusion(position, normal);
+  vec3 sun = atmo_occ_sun_lux * max(dot(normal, atmo_occ_sun.xyz), 0.0);
+  vec3 open = max(atmo_occ_sh9_dot(0, atmo_occ_basis(normal)), vec3(0.0)) + sun;
+  vec3 lit = o.sky_lux + o.bounce_lux + sun * o.sun_visibility;
+  vec3 factor = vec3(open.x > 0.0 ? lit.x / open.x : 1.0, open.y > 0.0 ? lit.y / open.y : 1.0,
+                     open.z > 0.0 ? lit.z / open.z : 1.0);
+  factor = clamp(factor, 0.0, 4.0);
+  // On a display-encoded target the factor applies to encoded values: its sRGB-like power (approximate: the
+  // tone map is not undone).
+  if (u_output_encoding == 1) factor = pow(factor, vec3(1.0 / 2.2));
+  out_factor = vec4(factor, 1.0);
+}
