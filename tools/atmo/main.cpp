@@ -1,6 +1,6 @@
 // atmo — the command-line tool: render scenarios through the real plugin,
 // validate a plugin build against the ABI contract, compare renders, print
-// the ephemeris.
+// the ephemeris, fit sphere sets to meshes.
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -10,6 +10,7 @@
 #include "compare_command.h"
 #include "ephemeris_command.h"
 #include "render_command.h"
+#include "spheres_command.h"
 #include "validator.h"
 
 int main(int argc, char** argv) {
@@ -90,16 +91,49 @@ int main(int argc, char** argv) {
   clouds_cmd->add_flag("--prototypes", clouds.prototypes_only,
                        "One grid per distinct cloud volume instead of one per placed cloud");
 
+  atmo::spheres_cli::Options spheres;
+  CLI::App* spheres_cmd = app.add_subcommand(
+      "spheres", "Fits a set of spheres that bounds a closed mesh (OBJ or PLY; metres, x forward, y left, z up), "
+                 "minimising the volume outside the mesh (Wang et al. 2006), for soft sky shadows; prints the fit's "
+                 "error and writes the sphere-set JSON (atmo-spheres-1). With --make, writes a procedural object "
+                 "as OBJ instead. Bad arguments exit with 2, unreadable or malformed files with 1");
+  CLI::Option* spheres_mesh = spheres_cmd->add_option("mesh", spheres.mesh_path, "Mesh to fit (.obj or .ply)");
+  CLI::Option* spheres_make =
+      spheres_cmd->add_option("--make", spheres.make, "Write this procedural object's mesh (OBJ) to --out instead")
+          ->check(CLI::IsMember({"aircraft", "vehicle", "building"}))
+          ->excludes(spheres_mesh);
+  spheres_cmd->add_option("-n,--spheres", spheres.spheres, "Number of spheres")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1024))
+      ->excludes(spheres_make);
+  spheres_cmd->add_option("-o,--out", spheres.out_path, "Output: the sphere-set .json (or the .obj with --make)")
+      ->required();
+  spheres_cmd->add_option("--grid", spheres.grid, "Inside samples along the mesh's longest side")
+      ->capture_default_str()
+      ->check(CLI::Range(8, 512))
+      ->excludes(spheres_make);
+  spheres_cmd->add_option("--measure-grid", spheres.measure_grid,
+                          "Rows along the longest side on which the fit's volumes are measured")
+      ->capture_default_str()
+      ->check(CLI::Range(16, 4096))
+      ->excludes(spheres_make);
+  spheres_cmd->add_option("--seed", spheres.seed, "Seed of the surface samples (the fit is deterministic per seed)")
+      ->capture_default_str()
+      ->excludes(spheres_make);
+
   try {
     app.parse(argc, argv);
+    if (*spheres_cmd && spheres.make.empty() && spheres.mesh_path.empty())
+      throw CLI::ValidationError("mesh", "give a MESH to fit, or --make aircraft|vehicle|building");
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
-    // `atmo ephemeris` promises exit code 2 for any bad input.
-    const bool ephemeris_args = argc > 1 && std::string(argv[1]) == "ephemeris";
-    return ephemeris_args && code != 0 ? 2 : code;
+    // `atmo ephemeris` and `atmo spheres` promise exit code 2 for any bad argument.
+    const bool exits_2 = argc > 1 && (std::string(argv[1]) == "ephemeris" || std::string(argv[1]) == "spheres");
+    return exits_2 && code != 0 ? 2 : code;
   }
   if (*compare_cmd) return atmo::compare::run_compare(compare);
   if (*clouds_cmd) return atmo::clouds_cli::run_clouds(clouds);
+  if (*spheres_cmd) return atmo::spheres_cli::run_spheres(spheres);
   if (*ephemeris_cmd) return atmo::ephemeris::run_ephemeris(ephemeris);
 
   if (*validate_cmd) return atmo::validate::run_validation(validate) == 0 ? 0 : 1;
