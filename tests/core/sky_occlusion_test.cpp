@@ -87,6 +87,38 @@ TEST(SkyOcclusionInclude, SquaringIsTheTripleProductsGeneratedCode) {
   for (int i = 0; i < 16; ++i) EXPECT_NEAR(got[i], sq[i], 1e-5);
 }
 
+// The bounce's form factor: the distribution of the surface normals of the part of a sphere that p sees,
+// weighted by the solid angle each patch subtends, against Monte Carlo over the cap's directions (each
+// direction a ray to the sphere, its hit normal's zonal harmonics averaged).
+TEST(SkyOcclusionInclude, FormFactorIsTheSeenNormalsDistribution) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (double deg : {5.0, 30.0, 60.0}) {
+    const double theta = deg * M_PI / 180.0, s = std::sin(theta);
+    const std::vector<double> zh = form_factor_zh(4, theta);
+    // p at the origin, the sphere of radius s at distance 1 along +z; directions uniform in the cap's solid angle.
+    double mc[4] = {0, 0, 0, 0};
+    const int n = 200000;
+    for (int k = 0; k < n; ++k) {
+      const double cz = 1.0 - u(rng) * (1.0 - std::cos(theta)), phi = 2.0 * M_PI * u(rng);
+      const glm::dvec3 d(std::sqrt(1.0 - cz * cz) * std::cos(phi), std::sqrt(1.0 - cz * cz) * std::sin(phi), cz);
+      const double b = glm::dot(d, glm::dvec3(0, 0, 1)), disc = b * b - (1.0 - s * s);
+      const double t = b - std::sqrt(std::max(disc, 0.0));
+      const glm::dvec3 normal = (d * t - glm::dvec3(0, 0, 1)) / s;
+      // The normal's angle from the axis towards p (-z).
+      const ShVector y = sh_basis(4, {normal.x, normal.y, -normal.z});
+      for (int l = 0; l < 4; ++l) mc[l] += y[l * (l + 1)] / n;
+    }
+    std::printf("form factor at %2.0f deg: ZH %.5f %.5f %.5f %.5f, Monte Carlo %.5f %.5f %.5f %.5f\n", deg, zh[0],
+                zh[1], zh[2], zh[3], mc[0], mc[1], mc[2], mc[3]);
+    for (int l = 0; l < 4; ++l) EXPECT_NEAR(zh[l], mc[l], 3e-3) << deg << " deg, band " << l;
+  }
+  // A point-like sphere: the clamped cosine (normalised), whose DC keeps a constant radiance constant.
+  const std::vector<double> tiny = form_factor_zh(4, 1e-4), cosine = clamped_cosine_zh(4);
+  for (int l = 0; l < 4; ++l) EXPECT_NEAR(tiny[l], cosine[l], 1e-3);
+  EXPECT_NEAR(form_factor_zh(4, 0.7)[0], 1.0 / std::sqrt(4.0 * M_PI), 1e-9);
+}
+
 TEST(SkyOcclusionInclude, TwinMatchesTheDoubleStudyAtOrderFour) {
   const ShOrder order(4);
   const std::vector<glm::dvec3> sky = test_sky_sh16();
