@@ -654,10 +654,28 @@ std::string give_every_pass_work(const AtmoPluginApi& api, AtmoContext context) 
     return std::string("set_lights failed: ") + api.last_error(context);
   if ((r = api.set_clouds(context, &clouds)) != ATMO_SUCCESS)
     return std::string("set_clouds failed: ") + api.last_error(context);
+  // An object of two spheres 300 m north at the eye's height: get_sky_occlusion has something to upload
+  // (a plugin from before sky occlusion has no set_occluders: its table ends above).
+  if (!api.set_occluders) return {};
+  static const AtmoOccluderSphere spheres[2] = {{{-4.0, 300.0, 600.0}, 5.0}, {{4.0, 300.0, 600.0}, 5.0}};
+  AtmoOccluderObject object{};
+  object.spheres = spheres;
+  object.sphere_count = 2;
+  object.albedo[0] = object.albedo[1] = object.albedo[2] = 0.3;
+  for (int k = 0; k < 4; ++k) object.world_from_object[5 * k] = 1.0;
+  auto occluders = make<AtmoOccludersState>(ATMO_TYPE_OCCLUDERS_STATE);
+  occluders.world_frame = ATMO_WORLD_ENU;
+  occluders.world_origin_geodetic[0] = 47.26;
+  occluders.world_origin_geodetic[1] = 11.35;
+  occluders.objects = &object;
+  occluders.object_count = 1;
+  if ((r = api.set_occluders(context, &occluders)) != ATMO_SUCCESS)
+    return std::string("set_occluders failed: ") + api.last_error(context);
   return {};
 }
 
-const char* const kPassNames[] = {"sky", "aerial perspective", "clouds", "night sky", "light glows", "light points"};
+const char* const kPassNames[] = {"sky", "aerial perspective", "clouds", "night sky", "light glows", "light points",
+                                   "sky occlusion"};
 static_assert(sizeof(kPassNames) / sizeof(kPassNames[0]) == ATMO_PASS_COUNT, "a name for every pass");
 
 // Pending GL error flags, drained (each flag once).
@@ -749,6 +767,9 @@ CheckResult gl_state_check(const std::string& path, HeadlessGl::Profile profile,
   run("get_fog_lighting", [&] { return api.get_fog_lighting(s.view, &fog_lighting); });
   auto shadows = make<AtmoCloudShadows>(ATMO_TYPE_CLOUD_SHADOWS);
   run("get_cloud_shadows", [&] { return api.get_cloud_shadows(s.view, &shadows); });
+  auto occlusion = make<AtmoSkyOcclusion>(ATMO_TYPE_SKY_OCCLUSION);
+  if (api.get_sky_occlusion)
+    run("get_sky_occlusion", [&] { return api.get_sky_occlusion(s.view, &occlusion); }, true);
   run("gl_shutdown", [&] { return api.gl_shutdown(s.context); });
   if (!problems.empty()) {
     // State changes first: they are what breaks a host's later draws.

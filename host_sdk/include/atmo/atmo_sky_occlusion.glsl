@@ -144,7 +144,8 @@ ATMO_OCC_FN vec4 atmo_occ_adjust(vec4 sphere, vec3 n) {
 // The fraction of the Sun's disc (angular radius sun_rad) a cap of half-angle theta covers, its centre at
 // cos_gamma from the Sun: the disc as a chord's segment across the cap's edge (sun_rad << theta).
 ATMO_OCC_FN float atmo_occ_sun_cover(float theta, float cos_gamma, float sun_rad) {
-  float gamma = acos(clamp(cos_gamma, -1.0f, 1.0f));
+  // atan, not acos: GPUs' acos may be off by 1e-4 rad (llvmpipe's is), a fifth of the Sun's radius.
+  float gamma = atan(sqrt(max(1.0f - cos_gamma * cos_gamma, 0.0f)), clamp(cos_gamma, -1.0f, 1.0f));
   float x = clamp((theta - gamma) / max(sun_rad, 1.0e-6f), -1.0f, 1.0f);
   return clamp(0.5f + (x * sqrt(max(1.0f - x * x, 0.0f)) + asin(x)) / ATMO_OCC_PI, 0.0f, 1.0f);
 }
@@ -264,7 +265,7 @@ ATMO_OCC_FN void atmo_occ_add_sphere(vec4 sphere_rel, vec3 n, AtmoOccSh rho, vec
   if (sin_theta < limits.x) return;
   // Faded in over [limit, 2 limit]: a sphere leaves the sum smoothly as it recedes.
   w *= smoothstep(limits.x, 2.0f * limits.x, sin_theta);
-  float theta = asin(sin_theta);
+  float theta = atan(sin_theta, sqrt(max(1.0f - sin_theta * sin_theta, 0.0f)));  // asin's precision, as above
   vec3 omega = c / max(d, 1.0e-9f);
   AtmoOccSh y = atmo_occ_basis(omega);
   float u = theta / (0.5f * ATMO_OCC_PI);

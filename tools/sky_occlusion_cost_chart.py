@@ -1,0 +1,56 @@
+#!/usr/bin/env python3
+"""The spheres sweep of atmo_sky_occlusion_bench as a chart's CSV: the host's ground shaded through
+atmo_sky_occlusion.glsl (16 objects), one series per mode (default: bounce + hybrid; no bounce; optimal
+linear), as a ratio to the LUT sky + aerial-perspective pair drawn in the same frames, by spheres an object;
+and the same ground shaded from the SH9 alone (no occlusion) for scale. With --png it draws the chart too.
+
+  build/bench/atmo_sky_occlusion_bench --frames 3 --csv docs/measurements/sky_occlusion_bench_1280x720.csv
+  python3 tools/sky_occlusion_cost_chart.py docs/measurements/sky_occlusion_bench_1280x720.csv \\
+      docs/measurements/sky_occlusion_cost_by_spheres.csv \\
+      --png docs/images/sky_occlusion_cost_by_spheres.png --chart build/tools/chart/atmo-chart
+which runs
+  build/tools/chart/atmo-chart --csv docs/measurements/sky_occlusion_cost_by_spheres.csv \\
+      --out docs/images/sky_occlusion_cost_by_spheres.png --x spheres --y ratio --group series --logx --logy \\
+      --hline 1 --hline-label "the pair (sky + aerial perspective)"
+"""
+import argparse
+import csv
+import subprocess
+import sys
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("bench_csv")
+    ap.add_argument("chart_csv")
+    ap.add_argument("--png", help="draw the chart into this PNG (needs --chart)")
+    ap.add_argument("--chart", default="build/tools/chart/atmo-chart", help="the atmo-chart executable")
+    ap.add_argument("--renderer", default="llvmpipe", help="the GL renderer the bench ran on (the title's)")
+    a = ap.parse_args()
+
+    rows = [r for r in csv.DictReader(open(a.bench_csv)) if r["sweep"] == "spheres"]
+    if not rows:
+        sys.exit("sky_occlusion_chart: no rows of the spheres sweep in " + a.bench_csv)
+    with open(a.chart_csv, "w") as out:
+        out.write("# from %s (tools/sky_occlusion_cost_chart.py): 16 objects, the host's ground through "
+                  "atmo_sky_occlusion.glsl, cost as a ratio to the LUT sky + aerial-perspective pair\n" % a.bench_csv)
+        out.write("spheres,ratio,series\n")
+        plain = {}
+        for r in sorted(rows, key=lambda r: (r["mode"], int(r["spheres_per_object"]))):
+            k = int(r["spheres_per_object"])
+            out.write("%d,%.4f,include (%s)\n" % (k, float(r["ratio_to_pair"]), r["mode"]))
+            plain.setdefault(k, []).append(float(r["plain_ms"]) / float(r["pair_ms"]))
+        for k in sorted(plain):  # the host's pass without occlusion, the mean over the modes' frames
+            out.write("%d,%.4f,host pass from the SH9 alone\n" % (k, sum(plain[k]) / len(plain[k])))
+    if a.png:
+        cmd = [a.chart, "--csv", a.chart_csv, "--out", a.png, "--x", "spheres", "--y", "ratio", "--group", "series",
+               "--logx", "--logy", "--hline", "1", "--hline-label", "the pair (sky + aerial perspective)",
+               "--title", "Sky occlusion: the host's ground through the include, 16 objects, 1280x720, %s" % a.renderer,
+               "--xlabel", "spheres an object", "--ylabel", "cost / the pair's (wall time to glFinish)",
+               "--legend", "top-left"]
+        return subprocess.call(cmd)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
