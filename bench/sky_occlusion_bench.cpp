@@ -385,6 +385,9 @@ int main(int argc, char** argv) {
   }
   const std::string head = "#version 330 core\n";
   const GLuint occluded = program_of(head + include + kPixelRay + kOccludedMain);
+  // A host that never draws the bounce compiles it out (ATMO_OCC_NO_BOUNCE), as the "no bounce" mode does.
+  const GLuint occluded_no_bounce =
+      program_of(head + "#define ATMO_OCC_NO_BOUNCE\n" + include + kPixelRay + kOccludedMain);
   const GLuint plain = program_of(head + kPixelRay + kPlainMain);
   const GLuint depth = program_of(head + kPixelRay + kDepthMain);
   const GLuint trivial = bench_gl::make_trivial_program();
@@ -397,7 +400,7 @@ int main(int argc, char** argv) {
   float sky_sh9[27];
   for (int k = 0; k < 9; ++k)
     for (int c = 0; c < 3; ++c) sky_sh9[3 * k + c] = float(lighting.sky_irradiance_sh9[k][c]);
-  for (GLuint p : {occluded, plain, depth}) {
+  for (GLuint p : {occluded, occluded_no_bounce, plain, depth}) {
     glUseProgram(p);
     glUniformMatrix4fv(glGetUniformLocation(p, "rel_from_clip"), 1, GL_FALSE, glm::value_ptr(rel_from_clip));
     glUniformMatrix4fv(glGetUniformLocation(p, "clip_from_rel"), 1, GL_FALSE, glm::value_ptr(clip_from_rel));
@@ -468,8 +471,9 @@ int main(int argc, char** argv) {
           return 1;
         }
         longest = occ.longest_tile_list;
-        glUseProgram(occluded);
-        bind_sky_occlusion(occluded, occ, 0);
+        const GLuint shading = (mode.flags & ATMO_OCCLUSION_NO_BOUNCE) ? occluded_no_bounce : occluded;
+        glUseProgram(shading);
+        bind_sky_occlusion(shading, occ, 0);
         glUseProgram(0);
 
         target->bind();
@@ -492,7 +496,7 @@ int main(int argc, char** argv) {
         const double pair_before = timer(the_pair, &pq);
         const double trivial_ms = timer([&] { full_screen(trivial); }, &unused);
         const double p_ms = timer([&] { full_screen(plain); }, &unused);
-        const double include_ms = timer([&] { full_screen(occluded); }, &iq);
+        const double include_ms = timer([&] { full_screen(shading); }, &iq);
         const double pair_after = timer(the_pair, &pq2);
         glDepthMask(GL_TRUE);
         if (f < 0) continue;
@@ -536,6 +540,6 @@ int main(int argc, char** argv) {
   }
   if (csv) std::fclose(csv);
   glDeleteVertexArrays(1, &vao);
-  for (GLuint p : {occluded, plain, depth, trivial}) glDeleteProgram(p);
+  for (GLuint p : {occluded, occluded_no_bounce, plain, depth, trivial}) glDeleteProgram(p);
   return 0;
 }

@@ -66,10 +66,15 @@ constexpr int kUnitsUsed = static_cast<int>(kTileObjectsUnit) + 1;
 static_assert(kUnitsUsed <= GlStateGuard::kMaxUnits, "the guard saves every unit the pass binds");
 }  // namespace
 
-bool OcclusionRenderer::build_program(std::string* error) {
-  if (program_) return true;
-  program_ = gl::build_program("fullscreen.vert", "sky_occlusion.frag", "", error);
-  if (!program_) return false;
+bool OcclusionRenderer::build_program(bool bounce, std::string* error) {
+  GLuint& program = programs_[bounce ? 1 : 0];
+  if (!program) {
+    program = gl::build_program("fullscreen.vert", "sky_occlusion.frag", bounce ? "" : "#define ATMO_OCC_NO_BOUNCE\n",
+                                error);
+    if (!program) return false;
+  }
+  if (program_ == program) return true;
+  program_ = program;
   pass_ = locate_pass_uniforms(program_);
   const auto at = [this](const char* name) { return glGetUniformLocation(program_, name); };
   u_tables_ = at("atmo_occ_tables");
@@ -87,15 +92,18 @@ bool OcclusionRenderer::build_program(std::string* error) {
   u_sun_sh9_ = at("atmo_occ_sun_sh9");
   u_transfer_ = at("atmo_occ_transfer");
   u_normal_up_ = at("u_normal_up");
-  create_pass_samplers(&linear_sampler_, &nearest_sampler_);
-  glGenVertexArrays(1, &vao_);
+  if (!vao_) {
+    create_pass_samplers(&linear_sampler_, &nearest_sampler_);
+    glGenVertexArrays(1, &vao_);
+  }
   return check_gl("building the sky-occlusion program", error);
 }
 
 bool OcclusionRenderer::draw(const PassInputs& in, const shadows::OcclusionFrame& frame, bool normal_up,
                              std::string* error) {
   GlStateGuard guard(kUnitsUsed);
-  if (!build_program(error) || !upload(frame, error)) return false;
+  const bool bounce = (static_cast<int>(frame.grid.w) & 1) != 0;  // OcclusionFrame::grid.w: 1 bounce + 2 hybrid
+  if (!build_program(bounce, error) || !upload(frame, error)) return false;
   guard.use_single_draw_buffer();
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
@@ -143,7 +151,8 @@ bool OcclusionRenderer::draw(const PassInputs& in, const shadows::OcclusionFrame
 void OcclusionRenderer::destroy() {
   for (GLuint t : {tables_, spheres_, objects_, tiles_, tile_objects_})
     if (t) glDeleteTextures(1, &t);
-  if (program_) glDeleteProgram(program_);
+  for (GLuint p : programs_)
+    if (p) glDeleteProgram(p);
   if (vao_) glDeleteVertexArrays(1, &vao_);
   for (GLuint s : {linear_sampler_, nearest_sampler_})
     if (s) glDeleteSamplers(1, &s);
@@ -152,6 +161,7 @@ void OcclusionRenderer::destroy() {
 
 void OcclusionRenderer::forget() {
   tables_ = spheres_ = objects_ = tiles_ = tile_objects_ = 0;
+  programs_[0] = programs_[1] = 0;
   program_ = vao_ = linear_sampler_ = nearest_sampler_ = 0;
 }
 

@@ -31,8 +31,10 @@ class OcclusionRenderer {
   void forget();   // the GL context is gone
 
  private:
-  bool build_program(std::string* error);
+  bool build_program(bool bounce, std::string* error);
   GLuint tables_ = 0, spheres_ = 0, objects_ = 0, tiles_ = 0, tile_objects_ = 0;
+  // Two programs: with the bounce, and without it compiled out (ATMO_OCCLUSION_NO_BOUNCE).
+  GLuint programs_[2] = {0, 0};
   GLuint program_ = 0, vao_ = 0, linear_sampler_ = 0, nearest_sampler_ = 0;
   PassUniforms pass_;
   GLint u_tables_ = -1, u_spheres_ = -1, u_objects_ = -1, u_tiles_ = -1, u_tile_objects_ = -1;

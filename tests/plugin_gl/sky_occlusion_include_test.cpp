@@ -420,12 +420,11 @@ TEST(SkyOcclusionInclude, HostShaderMatchesTheTwinOverTheFrameThePluginUploaded)
     EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 
     // The uploaded frame against core's.
-    size_t sphere_count = 0;
-    for (const HostObject& h : host) sphere_count += h.spheres.size();
-    std::vector<glm::vec4> tables;
-    const shadows::OcclusionFrame gpu = frame_from_gl(o, sphere_count, host.size(), &tables);
     std::vector<shadows::OccluderObject> keep;
     const shadows::OcclusionFrame cpu = frame_on_cpu(host, o, flags, &keep);
+    // The spheres' texture holds every sphere and then the groups' texels.
+    std::vector<glm::vec4> tables;
+    const shadows::OcclusionFrame gpu = frame_from_gl(o, cpu.spheres.size(), host.size(), &tables);
     EXPECT_EQ(tables, shadows::occlusion_tables().texels) << "atmo_occ_tables is core's table";
     ASSERT_EQ(gpu.spheres.size(), cpu.spheres.size());
     ASSERT_EQ(gpu.objects.size(), cpu.objects.size());

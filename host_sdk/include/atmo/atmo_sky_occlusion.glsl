@@ -38,6 +38,8 @@
 //   unoccluded]; bounce_lux the light the objects reflect onto the point;
 //   sun_visibility the fraction of the Sun's disc the spheres leave (1 with
 //   no object near: multiply your own sun term, or your shadow map's, by it).
+//   #define ATMO_OCC_NO_BOUNCE before the include compiles the bounce out (about
+//   half the cost: a uniform flag does not skip it on every GPU); bounce_lux is 0.
 //   A surface of an object itself is a receiver too: its own spheres that
 //   contain the point or lie behind its tangent plane are left out.
 //
@@ -175,7 +177,8 @@ ATMO_OCC_FN AtmoOccSh atmo_occ_square(AtmoOccSh g) {
 #ifndef ATMO_TWIN
 #ifndef ATMO_OCC_NO_UNIFORMS
 uniform sampler2D atmo_occ_tables;         // RGBA32F, 256 x 3: log cap, form factor (by theta), (a, b) (by |f^|)
-uniform sampler2D atmo_occ_spheres;        // RGBA32F: a sphere a texel (centre ENU relative to the eye m, radius m), 1024 a row
+uniform sampler2D atmo_occ_spheres;        // RGBA32F: a sphere a texel (centre ENU relative to the eye m, radius m),
+                                           // then 3 texels a group (bound, stand-in, first sphere and count); 1024 a row
 uniform sampler2D atmo_occ_objects;        // RGBA32F: 4 texels an object (see atmo_occ_object), 256 a row
 uniform usampler2D atmo_occ_tiles;         // RG32UI: per screen tile, its first object in atmo_occ_tile_objects and count
 uniform usampler2D atmo_occ_tile_objects;  // R32UI: object indices, 4096 a row
@@ -244,17 +247,19 @@ ATMO_OCC_FN AtmoOccSh atmo_occ_exp_hybrid(AtmoOccSh f) {
 
 // sum_k sh9_k f_k over the first 9 coefficients of f: the sky's (which 0) or the Sun's (1) irradiance SH9.
 ATMO_OCC_FN vec3 atmo_occ_sh9_dot(int which, AtmoOccSh f) {
-  vec3 r = vec3(0.0f);
-  float c[9];
-  c[0] = f.a.x; c[1] = f.a.y; c[2] = f.a.z; c[3] = f.a.w; c[4] = f.b.x; c[5] = f.b.y; c[6] = f.b.z; c[7] = f.b.w; c[8] = f.c.x;
-  for (int k = 0; k < 9; ++k) r += c[k] * (which == 0 ? atmo_occ_sky_sh9_at(k) : atmo_occ_sun_sh9_at(k));
-  return r;
+  if (which == 0)
+    return atmo_occ_sky_sh9_at(0) * f.a.x + atmo_occ_sky_sh9_at(1) * f.a.y + atmo_occ_sky_sh9_at(2) * f.a.z +
+           atmo_occ_sky_sh9_at(3) * f.a.w + atmo_occ_sky_sh9_at(4) * f.b.x + atmo_occ_sky_sh9_at(5) * f.b.y +
+           atmo_occ_sky_sh9_at(6) * f.b.z + atmo_occ_sky_sh9_at(7) * f.b.w + atmo_occ_sky_sh9_at(8) * f.c.x;
+  return atmo_occ_sun_sh9_at(0) * f.a.x + atmo_occ_sun_sh9_at(1) * f.a.y + atmo_occ_sun_sh9_at(2) * f.a.z +
+         atmo_occ_sun_sh9_at(3) * f.a.w + atmo_occ_sun_sh9_at(4) * f.b.x + atmo_occ_sun_sh9_at(5) * f.b.y +
+         atmo_occ_sun_sh9_at(6) * f.b.z + atmo_occ_sun_sh9_at(7) * f.b.w + atmo_occ_sun_sh9_at(8) * f.c.x;
 }
 
 // One sphere's part (its weight w in [0, 1]) in the running log-visibility, the Sun's visibility and the
 // bounce (prev: exp of the log before it, for the bounce's telescoping visibilities).
-ATMO_OCC_FN void atmo_occ_add_sphere(vec4 sphere_rel, vec3 n, AtmoOccSh rho, vec3 albedo, float w, bool bounce,
-                                     INOUT(AtmoOccSh) log_v, INOUT(AtmoOccSh) prev, INOUT(float) sun_v,
+ATMO_OCC_FN void atmo_occ_add_sphere(vec4 sphere_rel, vec3 n, AtmoOccSh rho, vec3 albedo, float w, bool sun_too,
+                                     bool bounce, INOUT(AtmoOccSh) log_v, INOUT(AtmoOccSh) prev, INOUT(float) sun_v,
                                      INOUT(vec3) bounce_lux) {
   vec4 s = atmo_occ_adjust(sphere_rel, n);
   if (!(s.w > 0.0f)) return;
@@ -271,7 +276,7 @@ ATMO_OCC_FN void atmo_occ_add_sphere(vec4 sphere_rel, vec3 n, AtmoOccSh rho, vec
   float u = theta / (0.5f * ATMO_OCC_PI);
   AtmoOccSh g = atmo_occ_rotate(atmo_occ_table(u, 0.0f) * w, y);
   vec4 sun = atmo_occ_sun_value();
-  sun_v *= 1.0f - w * atmo_occ_sun_cover(theta, dot(omega, vec3(sun.x, sun.y, sun.z)), limits.w);
+  if (sun_too) sun_v *= 1.0f - w * atmo_occ_sun_cover(theta, dot(omega, vec3(sun.x, sun.y, sun.z)), limits.w);
   if (bounce) {
     // The part of the sky this sphere hides and no sphere before it: exp(sum before) - exp(sum with it).
     AtmoOccSh next = atmo_occ_exp_linear(atmo_occ_add(log_v, g, 1.0f));
@@ -291,6 +296,42 @@ ATMO_OCC_FN void atmo_occ_add_sphere(vec4 sphere_rel, vec3 n, AtmoOccSh rho, vec
   log_v = atmo_occ_add(log_v, g, 1.0f);
 }
 
+// The Sun's cover alone by spheres [first, first + count) (weight w): a stand-in is a blob in the sky, not the
+// object's shadow, so where the Sun's ray meets a stand-in's bound its spheres cast the Sun's shadow.
+ATMO_OCC_FN void atmo_occ_sun_spheres(uint first, uint count, vec3 p, vec3 n, float w, INOUT(float) sun_v) {
+  vec4 sun = atmo_occ_sun_value();
+  vec3 s_dir = vec3(sun.x, sun.y, sun.z);
+  float sun_rad = atmo_occ_limits_value().w;
+  for (uint i = 0u; i < count; ++i) {
+    vec4 raw = atmo_occ_sphere(first + i);
+    vec4 s = atmo_occ_adjust(vec4(vec3(raw.x, raw.y, raw.z) - p, raw.w), n);
+    if (!(s.w > 0.0f)) continue;
+    vec3 c = vec3(s.x, s.y, s.z);
+    float d = length(c);
+    float sin_theta = d > s.w ? s.w / d : 1.0f;
+    float theta = atan(sin_theta, sqrt(max(1.0f - sin_theta * sin_theta, 0.0f)));
+    sun_v *= 1.0f - w * atmo_occ_sun_cover(theta, dot(c / max(d, 1.0e-9f), s_dir), sun_rad);
+  }
+}
+
+// Whether the ray from p towards the Sun meets a bound (centre relative to p, radius).
+ATMO_OCC_FN bool atmo_occ_sun_meets(vec3 to_centre, float radius) {
+  vec4 sun = atmo_occ_sun_value();
+  float t = dot(to_centre, vec3(sun.x, sun.y, sun.z));
+  return t > -radius && dot(to_centre, to_centre) - t * t < radius * radius;
+}
+
+// rho_k times row k of the sky's transfer against V, per channel (the transfer: 36 vec4 a channel, 4 a row).
+ATMO_OCC_FN vec3 atmo_occ_transfer_row(int k, float rho_k, AtmoOccSh v) {
+  int at = 4 * k;
+  return rho_k * vec3(dot(v.a, atmo_occ_transfer_at(at)) + dot(v.b, atmo_occ_transfer_at(at + 1)) +
+                          dot(v.c, atmo_occ_transfer_at(at + 2)) + dot(v.d, atmo_occ_transfer_at(at + 3)),
+                      dot(v.a, atmo_occ_transfer_at(36 + at)) + dot(v.b, atmo_occ_transfer_at(37 + at)) +
+                          dot(v.c, atmo_occ_transfer_at(38 + at)) + dot(v.d, atmo_occ_transfer_at(39 + at)),
+                      dot(v.a, atmo_occ_transfer_at(72 + at)) + dot(v.b, atmo_occ_transfer_at(73 + at)) +
+                          dot(v.c, atmo_occ_transfer_at(74 + at)) + dot(v.d, atmo_occ_transfer_at(75 + at)));
+}
+
 // The sky's light at a receiver (position relative to the eye, world axes; unit normal, world axes).
 ATMO_OCC_FN AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 normal_world) {
   mat3 enu = atmo_occ_enu_from_world_value();
@@ -308,7 +349,11 @@ ATMO_OCC_FN AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 no
   vec4 grid = atmo_occ_grid_value();
   vec4 limits = atmo_occ_limits_value();
   int flags = int(grid.w + 0.5f);
+#ifdef ATMO_OCC_NO_BOUNCE
+  bool bounce = false;  // compiled out: the host never draws the bounce
+#else
   bool bounce = (flags % 2) == 1;
+#endif
   AtmoOccSh rho = atmo_occ_cosine(y);
   AtmoOccSh zero = atmo_occ_sh(vec4(0.0f), vec4(0.0f), vec4(0.0f), vec4(0.0f));
   AtmoOccSh log_v = zero;
@@ -322,23 +367,62 @@ ATMO_OCC_FN AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 no
     vec3 to_bound = vec3(bound.x, bound.y, bound.z) - p;
     float db = length(to_bound);
     float sin_bound = db > bound.w ? bound.w / db : 1.0f;
-    if (sin_bound < limits.x) continue;
-    // Sphere by sphere where the object is large in the sky, one sphere where it is small, blended between.
+    vec4 groups = atmo_occ_object(o, 3);  // first group's texel, groups
+    uint first_group = uint(groups.x + 0.5f);
+    uint group_count = uint(groups.y + 0.5f);
+    if (sin_bound < limits.x) {
+      // Too small in the sky to hide it, but not the Sun: its shadow reaches as far as it is listed.
+      if (atmo_occ_sun_meets(to_bound, bound.w)) {
+        for (uint k = 0u; k < group_count; ++k) {
+          vec4 range = atmo_occ_sphere(first_group + 3u * k + 2u);
+          atmo_occ_sun_spheres(uint(range.x + 0.5f), uint(range.y + 0.5f), p, n, 1.0f, sun_v);
+        }
+        any = true;
+      }
+      continue;
+    }
+    // Sphere by sphere where the object is large in the sky, one sphere where it is small, blended between;
+    // and within it, group by group the same way (the hierarchy: object, groups of <= 8 spheres, spheres).
     float near_w = smoothstep(limits.y, limits.z, sin_bound);
-    vec4 albedo_first = atmo_occ_object(o, 2);  // albedo rgb, first sphere
-    vec3 albedo = vec3(albedo_first.x, albedo_first.y, albedo_first.z);
+    vec4 albedo_w = atmo_occ_object(o, 2);  // albedo rgb
+    vec3 albedo = vec3(albedo_w.x, albedo_w.y, albedo_w.z);
     if (near_w < 1.0f) {
       vec4 proxy = atmo_occ_object(o, 1);
-      atmo_occ_add_sphere(vec4(vec3(proxy.x, proxy.y, proxy.z) - p, proxy.w), n, rho, albedo, 1.0f - near_w, bounce,
-                          log_v, prev, sun_v, bounce_lux);
+      atmo_occ_add_sphere(vec4(vec3(proxy.x, proxy.y, proxy.z) - p, proxy.w), n, rho, albedo, 1.0f - near_w, false,
+                          bounce, log_v, prev, sun_v, bounce_lux);
+      if (atmo_occ_sun_meets(to_bound, bound.w)) {
+        for (uint k = 0u; k < group_count; ++k) {
+          vec4 range = atmo_occ_sphere(first_group + 3u * k + 2u);
+          atmo_occ_sun_spheres(uint(range.x + 0.5f), uint(range.y + 0.5f), p, n, 1.0f - near_w, sun_v);
+        }
+      }
     }
     if (near_w > 0.0f) {
-      uint first = uint(albedo_first.w + 0.5f);
-      uint count = uint(atmo_occ_object(o, 3).x + 0.5f);
-      for (uint i = 0u; i < count; ++i) {
-        vec4 s = atmo_occ_sphere(first + i);
-        atmo_occ_add_sphere(vec4(vec3(s.x, s.y, s.z) - p, s.w), n, rho, albedo, near_w, bounce, log_v, prev, sun_v,
-                            bounce_lux);
+      for (uint k = 0u; k < group_count; ++k) {
+        uint at = first_group + 3u * k;
+        vec4 gb = atmo_occ_sphere(at);
+        vec3 to_group = vec3(gb.x, gb.y, gb.z) - p;
+        float dg = length(to_group);
+        float sin_group = dg > gb.w ? gb.w / dg : 1.0f;
+        if (sin_group < limits.x) continue;
+        float group_w = smoothstep(limits.y, limits.z, sin_group);
+        vec4 range = atmo_occ_sphere(at + 2u);  // first sphere, count
+        uint first = uint(range.x + 0.5f);
+        uint count = uint(range.y + 0.5f);
+        if (group_w < 1.0f) {
+          vec4 gp = atmo_occ_sphere(at + 1u);
+          atmo_occ_add_sphere(vec4(vec3(gp.x, gp.y, gp.z) - p, gp.w), n, rho, albedo, near_w * (1.0f - group_w),
+                              false, bounce, log_v, prev, sun_v, bounce_lux);
+          if (atmo_occ_sun_meets(to_group, gb.w))
+            atmo_occ_sun_spheres(first, count, p, n, near_w * (1.0f - group_w), sun_v);
+        }
+        if (group_w > 0.0f) {
+          for (uint i = 0u; i < count; ++i) {
+            vec4 s = atmo_occ_sphere(first + i);
+            atmo_occ_add_sphere(vec4(vec3(s.x, s.y, s.z) - p, s.w), n, rho, albedo, near_w * group_w, true, bounce,
+                                log_v, prev, sun_v, bounce_lux);
+          }
+        }
       }
     }
     any = true;
@@ -346,19 +430,11 @@ ATMO_OCC_FN AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 no
   if (!any) return out_;
   AtmoOccSh v = (flags / 2) % 2 == 1 ? atmo_occ_exp_hybrid(log_v) : atmo_occ_exp_linear(log_v);
   // E_c = sum_k rho_k sum_i M_ik V_i over the cosine's 9 coefficients.
-  float r9[9];
-  r9[0] = rho.a.x; r9[1] = rho.a.y; r9[2] = rho.a.z; r9[3] = rho.a.w;
-  r9[4] = rho.b.x; r9[5] = rho.b.y; r9[6] = rho.b.z; r9[7] = rho.b.w; r9[8] = rho.c.x;
-  vec3 sky = vec3(0.0f);
-  for (int k = 0; k < 9; ++k) {
-    int at = 4 * k;
-    sky.x += r9[k] * (dot(v.a, atmo_occ_transfer_at(at)) + dot(v.b, atmo_occ_transfer_at(at + 1)) +
-                      dot(v.c, atmo_occ_transfer_at(at + 2)) + dot(v.d, atmo_occ_transfer_at(at + 3)));
-    sky.y += r9[k] * (dot(v.a, atmo_occ_transfer_at(36 + at)) + dot(v.b, atmo_occ_transfer_at(37 + at)) +
-                      dot(v.c, atmo_occ_transfer_at(38 + at)) + dot(v.d, atmo_occ_transfer_at(39 + at)));
-    sky.z += r9[k] * (dot(v.a, atmo_occ_transfer_at(72 + at)) + dot(v.b, atmo_occ_transfer_at(73 + at)) +
-                      dot(v.c, atmo_occ_transfer_at(74 + at)) + dot(v.d, atmo_occ_transfer_at(75 + at)));
-  }
+  vec3 sky = atmo_occ_transfer_row(0, rho.a.x, v) + atmo_occ_transfer_row(1, rho.a.y, v) +
+             atmo_occ_transfer_row(2, rho.a.z, v) + atmo_occ_transfer_row(3, rho.a.w, v) +
+             atmo_occ_transfer_row(4, rho.b.x, v) + atmo_occ_transfer_row(5, rho.b.y, v) +
+             atmo_occ_transfer_row(6, rho.b.z, v) + atmo_occ_transfer_row(7, rho.b.w, v) +
+             atmo_occ_transfer_row(8, rho.c.x, v);
   out_.sky_lux = clamp(sky, vec3(0.0f), open);
   out_.sun_visibility = clamp(sun_v, 0.0f, 1.0f);
   // The bounce's visibilities came from the optimal-linear exponential, which runs bright under large
