@@ -35,6 +35,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "atmo/atmo.hpp"
+#include "atmo_host_scene/sky_occlusion_binding.h"
 #include "atmo_support/example_view.h"
 #include "atmo_support/headless_gl.h"
 #include "atmo_support/offscreen_target.h"
@@ -265,34 +266,6 @@ GLuint program_of(const std::string& fragment) {
 }
 
 // The include's inputs as its header's "HOST USE" says (textures on units first..first + 4).
-void bind_sky_occlusion(GLuint program, const AtmoSkyOcclusion& o, int first_unit) {
-  const GLuint textures[5] = {o.tables, o.spheres, o.objects, o.tiles, o.tile_objects};
-  const char* names[5] = {"atmo_occ_tables", "atmo_occ_spheres", "atmo_occ_objects", "atmo_occ_tiles",
-                          "atmo_occ_tile_objects"};
-  for (int i = 0; i < 5; ++i) {
-    glActiveTexture(GL_TEXTURE0 + first_unit + i);
-    glBindTexture(GL_TEXTURE_2D, textures[i]);
-    glUniform1i(glGetUniformLocation(program, names[i]), first_unit + i);
-  }
-  glActiveTexture(GL_TEXTURE0);
-  float m16[16], m9[9], v4[4], v3[3];
-  for (int i = 0; i < 16; ++i) m16[i] = float(o.tile_from_position[i]);
-  for (int i = 0; i < 9; ++i) m9[i] = float(o.enu_from_world[i]);
-  glUniformMatrix4fv(glGetUniformLocation(program, "atmo_occ_tile_from_position"), 1, GL_FALSE, m16);
-  glUniformMatrix3fv(glGetUniformLocation(program, "atmo_occ_enu_from_world"), 1, GL_FALSE, m9);
-  auto vec4_of = [&](const char* name, const double* d) {
-    for (int i = 0; i < 4; ++i) v4[i] = float(d[i]);
-    glUniform4fv(glGetUniformLocation(program, name), 1, v4);
-  };
-  vec4_of("atmo_occ_grid", o.grid);
-  vec4_of("atmo_occ_limits", o.limits);
-  vec4_of("atmo_occ_sun", o.sun);
-  for (int i = 0; i < 3; ++i) v3[i] = float(o.sun_lux[i]);
-  glUniform3fv(glGetUniformLocation(program, "atmo_occ_sun_lux"), 1, v3);
-  glUniform3fv(glGetUniformLocation(program, "atmo_occ_sky_sh9"), 9, o.sky_sh9);
-  glUniform3fv(glGetUniformLocation(program, "atmo_occ_sun_sh9"), 9, o.sun_sh9);
-  glUniform4fv(glGetUniformLocation(program, "atmo_occ_transfer"), 108, o.transfer);
-}
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path);
@@ -473,7 +446,7 @@ int main(int argc, char** argv) {
         longest = occ.longest_tile_list;
         const GLuint shading = (mode.flags & ATMO_OCCLUSION_NO_BOUNCE) ? occluded_no_bounce : occluded;
         glUseProgram(shading);
-        bind_sky_occlusion(shading, occ, 0);
+        const atmo::host_scene::SkyOcclusionBinding binding(shading, occ, 0);  // as a host binds them
         glUseProgram(0);
 
         target->bind();

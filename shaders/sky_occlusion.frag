@@ -28,9 +28,15 @@ void main() {
   vec3 sun = atmo_occ_sun_lux * max(dot(normal, atmo_occ_sun.xyz), 0.0);
   vec3 open = max(atmo_occ_sh9_dot(0, atmo_occ_basis(normal)), vec3(0.0)) + sun;
   vec3 lit = o.sky_lux + o.bounce_lux + sun * o.sun_visibility;
-  vec3 factor = vec3(open.x > 0.0 ? lit.x / open.x : 1.0, open.y > 0.0 ? lit.y / open.y : 1.0,
-                     open.z > 0.0 ? lit.z / open.z : 1.0);
-  factor = clamp(factor, 0.0, 4.0);
+  // Per channel, but where a channel's open light is small (a face turned from the Sun and most of the sky)
+  // its ratio is noise over nothing: there the luminance's ratio, so no tint appears.
+  const vec3 kLuminance = vec3(0.2126, 0.7152, 0.0722);
+  float open_y = dot(open, kLuminance);
+  float ratio_y = open_y > 0.0 ? dot(lit, kLuminance) / open_y : 1.0;
+  float brightest = max(max(open.x, open.y), max(open.z, 1.0e-30));
+  vec3 ratio = lit / max(open, vec3(1.0e-30));
+  vec3 trust = smoothstep(vec3(0.02), vec3(0.1), open / brightest);
+  vec3 factor = clamp(mix(vec3(ratio_y), ratio, trust), 0.0, 4.0);
   // On a display-encoded target the factor applies to encoded values: its sRGB-like power (approximate: the
   // tone map is not undone).
   if (u_output_encoding == 1) factor = pow(factor, vec3(1.0 / 2.2));

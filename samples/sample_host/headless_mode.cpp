@@ -81,6 +81,10 @@ int run_headless(const Options& options, SceneSettings settings) {
     std::fprintf(stderr, "atmo-sample-host: gl_init: %s\n", error.c_str());
     status = 1;
   }
+  if (status == 0 && settings.objects != ObjectsChoice::None && !renderer->load_objects(options.objects_dir, &error)) {
+    std::fprintf(stderr, "atmo-sample-host: --objects %s: %s\n", objects_choice_name(settings.objects), error.c_str());
+    status = 2;
+  }
   settings.clouds.setup = ATMO_CLOUD_SETUP_WAIT;  // screenshots: each frame a function of the settings
   if (status == 0 && !settings.clouds.layers.empty()) {
     std::string message;
@@ -115,7 +119,10 @@ int run_headless(const Options& options, SceneSettings settings) {
                 options.width, options.height);
   }
   for (int i = 0; status == 0 && i < options.frames; ++i) {
-    settings.pose = approach_path(options.frames > 1 ? static_cast<double>(i) / (options.frames - 1) : 0.0);
+    // The approach; with objects the apron's view (the driving van moves from frame to frame).
+    settings.pose = settings.objects == ObjectsChoice::Apron
+                        ? apron_view()
+                        : approach_path(options.frames > 1 ? static_cast<double>(i) / (options.frames - 1) : 0.0);
     // Each section finished before the next: llvmpipe defers rasterisation,
     // and its timer queries would credit the terrain's to the sky pass.
     const FrameReport report = renderer->render_frame(settings, static_cast<uint64_t>(i), target->fbo(),
@@ -133,6 +140,16 @@ int run_headless(const Options& options, SceneSettings settings) {
                 wall_ms(kSectionLightGlows), wall_ms(kSectionLightPoints), wall_ms(kSectionTerrain));
     for (const std::string& line : report.light_debug)
       if (!line.empty()) std::printf("  plugin: %s\n", line.c_str());
+    if (settings.objects != ObjectsChoice::None) {
+      std::printf("  objects: %s, %zu drawn, %u occluders (shadows %s, bounce %s); objects %.2f ms",
+                  objects_choice_name(settings.objects), apron_objects().size(), report.occluders,
+                  settings.object_shadows ? "on" : "off", settings.object_bounce ? "on" : "off",
+                  wall_ms(kSectionObjects));
+      if (report.occluders > 0)
+        std::printf(", sky occlusion pass %.2f ms (to glFinish); get_sky_occlusion %.2f ms CPU, longest tile list %u",
+                    wall_ms(kSectionSkyOcclusion), report.sky_occlusion_cpu_ms, report.longest_tile_list);
+      std::printf("\n");
+    }
     for (int s = 0; s < kSectionCount; ++s) {
       if (!std::isnan(report.gpu_ms[static_cast<size_t>(s)])) {
         sum[s] += report.gpu_ms[static_cast<size_t>(s)];

@@ -6,6 +6,7 @@
 //   atmo-sample-host --frames N --out DIR     headless: N frames as DIR/frame_NNN.png
 //   atmo-sample-host --cloud cumulus:4:1200:2500   a cloud layer (repeatable; --vdb FILE[:GRID])
 //   atmo-sample-host --lights airport+town --rvr 550   the airport and a town, 15 000 lights, in fog
+//   atmo-sample-host --objects apron          an aircraft, vans and a hangar with their sky shadows and bounce
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -74,6 +75,17 @@ int main(int argc, char** argv) {
                                 std::to_string(sample::max_town_lights()) +
                                 " (1 300 a km^2; default: 15 000 lights in all)";
   auto* town = app.add_option("--town", settings.town_lights, town_help)->capture_default_str();
+  std::string objects = sample::objects_choice_name(settings.objects);
+  app.add_option("--objects", objects,
+                 "The host's objects: none, or apron (an aircraft, two vans, one driving, and a hangar north of the "
+                 "runway, with their sky shadows and bounce: set_occluders; the camera starts at the apron)")
+      ->capture_default_str();
+  app.add_option("--objects-dir", options.objects_dir, "Folder of the objects' meshes and sphere sets")
+      ->capture_default_str();
+  bool no_object_shadows = false, no_bounce = false;
+  app.add_flag("--no-object-shadows", no_object_shadows,
+               "The objects lit by the open sky, without their sky occlusion (no shadows, no bounce)");
+  app.add_flag("--no-bounce", no_bounce, "The objects' shadows without their bounce (ATMO_OCCLUSION_NO_BOUNCE)");
   app.add_option("--ev", settings.ev100, "Exposure, EV100")->capture_default_str();
   app.add_option("--depth", depth, "Depth convention")
       ->check(CLI::IsMember({"standard", "reversed", "log", "logarithmic"}))
@@ -134,6 +146,12 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "atmo-sample-host: --lights: %s\n", option_error.c_str());
     return 2;
   }
+  if (!sample::parse_objects_choice(objects, &settings.objects, &option_error)) {
+    std::fprintf(stderr, "atmo-sample-host: --objects: %s\n", option_error.c_str());
+    return 2;
+  }
+  settings.object_shadows = !no_object_shadows;
+  settings.object_bounce = !no_bounce;
   if (settings.town_lights > sample::max_town_lights()) {
     std::fprintf(stderr, "atmo-sample-host: --town: %u is more than %u (all lights together: at most %u)\n",
                  settings.town_lights, sample::max_town_lights(), ATMO_LIGHTS_MAX);
@@ -162,7 +180,7 @@ int main(int argc, char** argv) {
     if (draw_mode == sample::cloud_draw_mode_name(m)) settings.clouds.draw_mode = static_cast<AtmoCloudDrawMode>(m);
   for (uint32_t q = 0; q < ATMO_CLOUD_QUALITY_COUNT; ++q)
     if (quality == sample::cloud_quality_name(q)) settings.clouds.quality = static_cast<AtmoCloudQuality>(q);
-  settings.pose = sample::approach_path(0.0);
+  settings.pose = settings.objects == sample::ObjectsChoice::Apron ? sample::apron_view() : sample::approach_path(0.0);
 
   return options.frames > 0 ? sample::run_headless(options, settings) : sample::run_window(options, settings);
 }

@@ -8,6 +8,10 @@
 
 #include "scene_settings.h"
 
+#ifndef ATMO_SAMPLE_OBJECTS_DIR
+#define ATMO_SAMPLE_OBJECTS_DIR "data/objects"
+#endif
+
 namespace atmo::sample {
 
 struct Options {
@@ -19,6 +23,7 @@ struct Options {
   int exit_after = 0;    // window: close after this many frames (0: never), for smoke tests
   std::string screenshot;  // window: PNG of the last frame, UI included, written on close
   bool verbose = false;  // plugin debug/info log messages too
+  std::string objects_dir = ATMO_SAMPLE_OBJECTS_DIR;  // the apron's meshes and sphere sets (data/objects)
 };
 
 // SceneSettings::depth_convention falls back to Standard where the context

@@ -14,6 +14,8 @@
 #include "atmo_host_scene/depth_setup.h"
 #include "atmo_host_scene/gl_program.h"
 #include "atmo_host_scene/light_layouts.h"
+#include "mesh.h"
+#include "sphere_json.h"
 
 namespace atmo::sample::embedded_glsl {
 std::string_view find(std::string_view path);
@@ -70,14 +72,15 @@ const char* severity_name(int32_t severity) {
 }  // namespace
 
 const char* section_name(int section) {
-  static const char* const names[kSectionCount] = {"terrain",     "sky",         "aerial perspective",
-                                                   "night sky",   "clouds",      "light glows",
+  static const char* const names[kSectionCount] = {"terrain",     "sky occlusion", "objects",     "sky",
+                                                   "aerial perspective", "night sky", "clouds", "light glows",
                                                    "light points", "tone map"};
   return section >= 0 && section < kSectionCount ? names[section] : "?";
 }
 
 int section_pass(int section) {
   switch (section) {
+    case kSectionSkyOcclusion: return ATMO_PASS_SKY_OCCLUSION;
     case kSectionSky: return ATMO_PASS_SKY;
     case kSectionAerialPerspective: return ATMO_PASS_AERIAL_PERSPECTIVE;
     case kSectionNightSky: return ATMO_PASS_NIGHT_SKY;
@@ -162,6 +165,7 @@ void SampleRenderer::gl_shutdown() {
   if (empty_vao_) glDeleteVertexArrays(1, &empty_vao_);
   tone_map_program_ = empty_vao_ = 0;
   if (terrain_) terrain_->gl_shutdown();
+  object_gl_.gl_shutdown();
   view_.reset();
   try {
     context_->gl_shutdown();
@@ -221,6 +225,104 @@ bool SampleRenderer::ensure_targets(int width, int height, std::string* error) {
   target_width_ = width;
   target_height_ = height;
   return true;
+}
+
+bool SampleRenderer::load_objects(const std::string& dir, std::string* error) {
+  object_meshes_.clear();
+  object_mesh_.clear();
+  object_spheres_.clear();
+  objects_loaded_ = false;
+  const char* const stems[] = {"aircraft", "vehicle", "building"};
+  try {
+    for (const char* stem : stems)
+      object_meshes_.push_back(spheres::read_mesh((std::filesystem::path(dir) / (std::string(stem) + ".obj")).string()));
+    for (const ApronObject& o : apron_objects()) {
+      size_t mesh = 0;
+      while (std::string(stems[mesh]) != o.stem) ++mesh;
+      object_mesh_.push_back(mesh);
+      const spheres::SphereSet set =
+          spheres::read_sphere_set((std::filesystem::path(dir) / (std::string(o.stem) + ".spheres.json")).string());
+      object_spheres_.push_back(hs::occluder_spheres(set));
+    }
+  } catch (const std::exception& e) {
+    if (error) *error = e.what();
+    return false;
+  }
+  std::vector<const spheres::TriangleMesh*> meshes;
+  for (const spheres::TriangleMesh& m : object_meshes_) meshes.push_back(&m);
+  if (!object_gl_.gl_init(meshes, error)) return false;
+  objects_loaded_ = true;
+  return true;
+}
+
+std::vector<hs::ObjectInstance> SampleRenderer::apron_instances(uint64_t frame_number) const {
+  std::vector<hs::ObjectInstance> out;
+  const std::vector<ApronObject>& apron = apron_objects();
+  for (size_t i = 0; i < apron.size(); ++i) {
+    const ApronObject o = i == kApronMovingVehicle ? apron_vehicle_pose(frame_number) : apron[i];
+    const double east = o.position_enu_m.x, north = o.position_enu_m.y;
+    const glm::dvec3 p(east, north, terrain_->height_at(east, north) - hs::curvature_drop_m(east, north));
+    hs::ObjectInstance instance;
+    instance.mesh = object_mesh_.at(i);
+    instance.enu_from_object = hs::enu_from_object_pose(p, o.heading_deg);
+    instance.albedo = o.albedo;
+    out.push_back(instance);
+  }
+  return out;
+}
+
+void SampleRenderer::send_occluders(const SceneSettings& settings, uint64_t frame_number, FrameReport* report) {
+  const bool wanted = objects_loaded_ && settings.objects == ObjectsChoice::Apron && settings.object_shadows;
+  if (!wanted) {
+    if (occluders_sent_) context_->check(api().set_occluders(context_->handle(), nullptr), "set_occluders");
+    occluders_sent_ = false;
+    return;
+  }
+  if (!api().set_occluders) throw atmo::Error(ATMO_ERROR_INCOMPATIBLE_VERSION, "set_occluders: the plugin predates sky occlusion (not in its table)");
+  const std::vector<hs::ObjectInstance> instances = apron_instances(frame_number);
+  const uint32_t flags = settings.object_bounce ? 0u : static_cast<uint32_t>(ATMO_OCCLUSION_NO_BOUNCE);
+  // The ENU frame of the airfield datum, as the view's (make_view_state).
+  const hs::Geodetic& o = settings.origin;
+  const bool moved = o.latitude_deg != occluders_origin_.latitude_deg ||
+                     o.longitude_deg != occluders_origin_.longitude_deg || o.height_m != occluders_origin_.height_m;
+  if (!occluders_sent_ || flags != occluder_flags_ || moved) {
+    std::vector<AtmoOccluderObject> objects;
+    for (size_t i = 0; i < instances.size(); ++i) {
+      AtmoOccluderObject object{};
+      object.spheres = object_spheres_[i].data();
+      object.sphere_count = static_cast<uint32_t>(object_spheres_[i].size());
+      object.sphere_size = sizeof(AtmoOccluderSphere);
+      for (int c = 0; c < 3; ++c) object.albedo[c] = instances[i].albedo[c];
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) object.world_from_object[c * 4 + r] = instances[i].enu_from_object[c][r];
+      objects.push_back(object);
+    }
+    auto state = atmo::make<AtmoOccludersState>(ATMO_TYPE_OCCLUDERS_STATE);
+    state.world_frame = ATMO_WORLD_ENU;
+    state.object_size = sizeof(AtmoOccluderObject);
+    state.world_origin_geodetic[0] = o.latitude_deg;
+    state.world_origin_geodetic[1] = o.longitude_deg;
+    state.world_origin_geodetic[2] = o.height_m;
+    state.objects = objects.data();
+    state.object_count = static_cast<uint32_t>(objects.size());
+    state.flags = flags;
+    context_->check(api().set_occluders(context_->handle(), &state), "set_occluders");
+    occluders_sent_ = true;
+    occluder_flags_ = flags;
+    occluders_origin_ = o;
+  } else {
+    // Each frame only the driving van moves: its pose alone, without its spheres.
+    double pose[16];
+    const glm::dmat4& m = instances[kApronMovingVehicle].enu_from_object;
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) pose[c * 4 + r] = m[c][r];
+    auto poses = atmo::make<AtmoOccluderPoses>(ATMO_TYPE_OCCLUDER_POSES);
+    poses.first = static_cast<uint32_t>(kApronMovingVehicle);
+    poses.count = 1;
+    poses.world_from_object = pose;
+    context_->check(api().set_occluder_poses(context_->handle(), &poses), "set_occluder_poses");
+  }
+  report->occluders = static_cast<uint32_t>(instances.size());
 }
 
 bool SampleRenderer::set_clouds(const SceneSettings& settings, std::string* message) {
@@ -394,6 +496,7 @@ FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t
     // The lights, in fog or clear air (the points pass draws them in both);
     // glow threshold the default, 1/2000 of the view's white.
     send_lights(settings, &report);
+    send_occluders(settings, frame_number, &report);
     auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
     frame.host_frame_number = frame_number;
     frame.utc_posix_s = settings.utc_posix_s;
@@ -442,6 +545,46 @@ FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t
     terrain_->draw(setup, report.scene_lighting,
                    report.fog_lighting.light_count > 0 ? &report.fog_lighting : nullptr);
     end(kSectionTerrain);
+
+    // The objects (docs/SKY_OCCLUSION.md): their sky shadow, Sun shadow and bounce on the terrain by the plugin's
+    // pass (every surface facing up; the colour-only framebuffer, the pass reads the depth), then the objects
+    // themselves, which shade their own surfaces through atmo_sky_occlusion.glsl with their own normals.
+    const bool objects = objects_loaded_ && settings.objects == ObjectsChoice::Apron;
+    const bool shadows = objects && occluders_sent_ && plugin_ready;
+    if (shadows) {
+      glBindFramebuffer(GL_FRAMEBUFFER, atmo_fbo_);
+      begin(kSectionSkyOcclusion);
+      try {
+        auto info = atmo::make<AtmoPassInfo>(ATMO_TYPE_PASS_INFO);
+        info.pass = ATMO_PASS_SKY_OCCLUSION;
+        info.flags = ATMO_PASS_SKY_OCCLUSION_NORMAL_UP;
+        report.pass_results[ATMO_PASS_SKY_OCCLUSION] =
+            context_->check(api().render_pass(view_->handle(), &info), "render_pass(ATMO_PASS_SKY_OCCLUSION)");
+      } catch (const atmo::Error& e) {
+        report.pass_results[ATMO_PASS_SKY_OCCLUSION] = e.code();
+        report.errors.push_back(e.what());
+      }
+      end(kSectionSkyOcclusion);
+    }
+    if (objects) {
+      glBindFramebuffer(GL_FRAMEBUFFER, scene_fbo_);
+      begin(kSectionObjects);
+      auto occlusion = atmo::make<AtmoSkyOcclusion>(ATMO_TYPE_SKY_OCCLUSION);
+      if (shadows) {
+        const auto occlusion_start = std::chrono::steady_clock::now();
+        try {
+          context_->check(api().get_sky_occlusion(view_->handle(), &occlusion), "get_sky_occlusion");
+        } catch (const atmo::Error& e) {
+          report.errors.push_back(e.what());
+        }
+        report.sky_occlusion_cpu_ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - occlusion_start).count();
+        report.longest_tile_list = occlusion.longest_tile_list;
+      }
+      object_gl_.draw(setup, hs::object_lighting_from_atmo(report.lighting), apron_instances(frame_number),
+                      shadows ? &occlusion : nullptr);
+      end(kSectionObjects);
+    }
 
     if (plugin_ready) {
       glBindFramebuffer(GL_FRAMEBUFFER, atmo_fbo_);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "atmo/atmo.hpp"
+#include "atmo_host_scene/objects.h"
 #include "atmo_host_scene/terrain.h"
 #include "gpu_timers.h"
 #include "scene_settings.h"
@@ -19,10 +20,14 @@
 namespace atmo::sample {
 
 // Timed sections of a frame, in drawing order: the plugin's passes in the
-// order atmo.h asks for (clouds after the night sky, so they hide the stars;
+// order atmo.h asks for (the objects' sky occlusion over the terrain before
+// the objects that shade themselves with atmo_sky_occlusion.glsl, both before
+// the aerial perspective; clouds after the night sky, so they hide the stars;
 // the light points after the glows, as they carry their own fog).
 enum Section {
   kSectionTerrain = 0,         // the host's terrain, lit by the plugin's lights when there are any
+  kSectionSkyOcclusion,        // ATMO_PASS_SKY_OCCLUSION over the terrain (facing up), with objects and their shadows
+  kSectionObjects,             // the host's objects, through atmo_sky_occlusion.glsl (get_sky_occlusion)
   kSectionSky,                 // ATMO_PASS_SKY
   kSectionAerialPerspective,   // ATMO_PASS_AERIAL_PERSPECTIVE
   kSectionNightSky,            // ATMO_PASS_NIGHT_SKY
@@ -56,6 +61,11 @@ struct FrameReport {
   double set_lights_ms = std::numeric_limits<double>::quiet_NaN();
   std::array<std::string, kLightDebugCount> light_debug;  // empty: the plugin did not say this frame
   host_scene::SceneLighting scene_lighting;
+  // The objects: how many the plugin holds as occluders (0: none or their shadows off), the most a screen tile
+  // lists (AtmoSkyOcclusion.longest_tile_list) and get_sky_occlusion's CPU time, ms (NaN: not called).
+  uint32_t occluders = 0;
+  uint32_t longest_tile_list = 0;
+  double sky_occlusion_cpu_ms = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::string> errors;  // plugin errors and error-level log messages of this frame
   double cpu_ms = 0.0;              // CPU time of render_frame
 };
@@ -82,6 +92,12 @@ class SampleRenderer {
   FrameReport render_frame(const SceneSettings& settings, uint64_t frame_number, unsigned target_fbo, int width,
                            int height, bool wait_for_timings, bool finish_sections = false);
 
+  // [gl-current] Reads the apron's objects from `dir` (aircraft, vehicle, building: .obj and .spheres.json) and
+  // uploads their meshes; false with *error naming the file and what is wrong. Without it the objects are not
+  // drawn (SceneSettings::objects is ignored).
+  bool load_objects(const std::string& dir, std::string* error);
+  bool objects_loaded() const { return objects_loaded_; }
+
   // Replaces the plugin's clouds with settings.clouds (set_clouds; no GL).
   // True on success; *message says what was set, or why the plugin refused
   // it (the clouds are then unchanged).
@@ -97,6 +113,10 @@ class SampleRenderer {
   void send_lights(const SceneSettings& settings, FrameReport* report);
   std::vector<AtmoLightPoint> draped(std::vector<AtmoLightPoint> lights) const;
   void release_targets();
+  // set_occluders / set_occluder_poses for the settings' objects at this frame; throws atmo::Error.
+  void send_occluders(const SceneSettings& settings, uint64_t frame_number, FrameReport* report);
+  // The apron's objects at this frame (the driving van moved), draped on the terrain.
+  std::vector<host_scene::ObjectInstance> apron_instances(uint64_t frame_number) const;
   std::vector<std::string> take_logged_errors();
 
   bool verbose_ = false;
@@ -115,6 +135,16 @@ class SampleRenderer {
   LightsChoice last_lights_ = LightsChoice::None;
   uint32_t last_town_lights_ = 0;
   std::array<uint32_t, 2> group_lights_{};
+
+  // The apron's objects: meshes (aircraft, vehicle, building), each object's mesh and spheres, the GL meshes.
+  bool objects_loaded_ = false;
+  std::vector<spheres::TriangleMesh> object_meshes_;
+  std::vector<size_t> object_mesh_;                        // per apron object
+  std::vector<std::vector<AtmoOccluderSphere>> object_spheres_;  // per apron object, object frame
+  host_scene::ObjectMeshes object_gl_;
+  bool occluders_sent_ = false;  // the plugin holds the apron's objects
+  uint32_t occluder_flags_ = 0;
+  host_scene::Geodetic occluders_origin_;  // their ENU frame's origin (the airfield datum) when sent
 
   // scene_fbo_: colour + depth, for opaques. atmo_fbo_: the same colour only,
   // for the plugin's passes, which sample the depth texture (no feedback loop).

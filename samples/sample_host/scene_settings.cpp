@@ -224,6 +224,51 @@ bool parse_rvr(const std::string& text, double* rvr_m, std::string* error) {
   return true;
 }
 
+const char* objects_choice_name(ObjectsChoice choice) {
+  switch (choice) {
+    case ObjectsChoice::None: return "none";
+    case ObjectsChoice::Apron: return "apron";
+  }
+  return "?";
+}
+
+bool parse_objects_choice(const std::string& text, ObjectsChoice* out, std::string* error) {
+  for (ObjectsChoice c : {ObjectsChoice::None, ObjectsChoice::Apron}) {
+    if (text == objects_choice_name(c)) {
+      *out = c;
+      return true;
+    }
+  }
+  *error = "'" + text + "' is not none or apron";
+  return false;
+}
+
+const std::vector<ApronObject>& apron_objects() {
+  // The runway runs east-west through the datum, 45 m wide; the apron lies 60-170 m north of its axis.
+  static const std::vector<ApronObject> objects = {
+      {"aircraft", {0.0, 105.0}, 180.0, {0.75, 0.75, 0.75}},  // nose to the runway
+      {"vehicle", {24.0, 92.0}, 0.0, {0.6, 0.1, 0.08}},      // parked beside its right wing
+      {"vehicle", {-20.0, 72.0}, 90.0, {0.15, 0.3, 0.6}},    // drives: apron_vehicle_pose
+      {"building", {-70.0, 150.0}, 90.0, {0.45, 0.45, 0.42}}};
+  return objects;
+}
+
+ApronObject apron_vehicle_pose(uint64_t frame_number) {
+  ApronObject v = apron_objects()[kApronMovingVehicle];
+  const double phase = 2.0 * 3.14159265358979323846 * static_cast<double>(frame_number % 240u) / 240.0;
+  v.position_enu_m.x = -20.0 + 40.0 * std::sin(phase);
+  v.heading_deg = std::cos(phase) >= 0.0 ? 90.0 : 270.0;  // the way it drives
+  return v;
+}
+
+host_scene::CameraPose apron_view() {
+  host_scene::CameraPose pose;
+  pose.position_enu_m = glm::dvec3(32.0, 62.0, 3.5);
+  pose.heading_deg = 318.0;
+  pose.pitch_deg = -4.0;
+  return pose;
+}
+
 host_scene::CameraPose approach_path(double t) {
   const host_scene::TerrainOptions runway;  // heading 90: landing eastwards
   const double touchdown = -0.5 * runway.runway_length_m + 300.0;

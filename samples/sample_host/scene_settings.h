@@ -3,9 +3,12 @@
 // Shared by the window and headless modes.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include <glm/glm.hpp>
 
 #include "atmo/atmo.h"
 #include "atmo_host_scene/camera.h"
@@ -93,6 +96,34 @@ constexpr double kRvrMaxM = 10000.0;
 // with *error saying why.
 bool parse_rvr(const std::string& text, double* rvr_m, std::string* error);
 
+// The host's objects (data/objects: meshes drawn by the host, sphere sets handed to set_occluders):
+//   None: none (the default: the frames are as without the feature);
+//   Apron: an aircraft, a parked van, a van driving along the apron and a hangar north of the runway.
+enum class ObjectsChoice { None, Apron };
+// "none", "apron".
+const char* objects_choice_name(ObjectsChoice choice);
+// One of those names; false with *error listing them.
+bool parse_objects_choice(const std::string& text, ObjectsChoice* out, std::string* error);
+
+// One object of the apron: its files in the objects folder (`stem`.obj, `stem`.spheres.json), where it stands
+// (ENU at the airfield datum, on the datum plane: the renderer drapes it on the terrain), its heading (its x
+// axis, forward, from north, clockwise) and its albedo.
+struct ApronObject {
+  const char* stem;
+  glm::dvec2 position_enu_m;
+  double heading_deg;
+  glm::dvec3 albedo;
+};
+// The apron, north of the runway (host_scene::Terrain, default options: heading 90): the aircraft, nose to the
+// runway, a van parked beside it, a van that drives (apron_vehicle_pose; index kApronMovingVehicle) and a hangar.
+const std::vector<ApronObject>& apron_objects();
+constexpr size_t kApronMovingVehicle = 2;
+// The driving van's position and heading at a host frame number (deterministic: back and forth along the apron
+// in front of the aircraft, one round trip in 240 frames).
+ApronObject apron_vehicle_pose(uint64_t frame_number);
+// A camera 3.5 m up at the apron's south-east corner, 50 m from the aircraft, looking north-west across the objects.
+host_scene::CameraPose apron_view();
+
 struct SceneSettings {
   host_scene::Geodetic origin{47.4647, 8.5492, 432.0};  // airfield datum (ENU origin)
   host_scene::CameraPose pose;
@@ -109,6 +140,11 @@ struct SceneSettings {
   double vfov_deg = 60.0;
   uint64_t seed = 1;
   CloudSettings clouds;
+  ObjectsChoice objects = ObjectsChoice::None;
+  // The objects' sky occlusion (set_occluders, ATMO_PASS_SKY_OCCLUSION over the terrain, atmo_sky_occlusion.glsl on
+  // the objects): off, the objects are lit by the open sky and cast no shadow.
+  bool object_shadows = true;
+  bool object_bounce = true;  // false: ATMO_OCCLUSION_NO_BOUNCE
 };
 
 // POSIX seconds ("1718982000") or an ISO 8601 UTC time stamp, read by the

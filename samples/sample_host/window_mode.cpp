@@ -138,6 +138,7 @@ struct PanelState {
   bool clouds_edited = false;       // the layers changed since the last Apply
   bool clouds_ok = true;
   std::string clouds_message;       // set_clouds' result
+  std::string objects_error;        // why the objects could not be read (their checkbox is then off)
 };
 
 // A std::string edited through a fixed buffer (the Debian imgui has no imgui_stdlib).
@@ -339,6 +340,42 @@ void draw_panel(const SampleRenderer& renderer, const FrameReport& report, FlyCa
     ImGui::TextDisabled("WASD move, Q/E down/up, drag to look, shift 10x");
   }
 
+  if (ImGui::CollapsingHeader("Objects", ImGuiTreeNodeFlags_DefaultOpen)) {
+    // The apron's objects (as --objects apron): drawn by the host; their sky occlusion through set_occluders,
+    // ATMO_PASS_SKY_OCCLUSION over the terrain and atmo_sky_occlusion.glsl on the objects.
+    ImGui::BeginDisabled(!renderer.objects_loaded());
+    bool apron = s->objects == ObjectsChoice::Apron;
+    if (ImGui::Checkbox("Objects on the apron", &apron)) s->objects = apron ? ObjectsChoice::Apron : ObjectsChoice::None;
+    ImGui::SameLine();
+    if (ImGui::Button("To the apron")) s->pose = apron_view();
+    ImGui::BeginDisabled(!apron);
+    ImGui::Checkbox("Object shadows (sky occlusion)", &s->object_shadows);
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!s->object_shadows);
+    ImGui::Checkbox("Bounce", &s->object_bounce);
+    ImGui::EndDisabled();
+    ImGui::EndDisabled();
+    ImGui::EndDisabled();
+    if (!panel->objects_error.empty()) {
+      ImGui::PushTextWrapPos(0.0f);
+      ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "%s", panel->objects_error.c_str());
+      ImGui::PopTextWrapPos();
+    }
+    if (apron) {
+      const auto shown_ms = [&](int section) {
+        return panel->finish_sections ? panel->smoothed_wall_ms[static_cast<size_t>(section)]
+                                      : panel->smoothed_ms[static_cast<size_t>(section)];
+      };
+      ImGui::Text("%zu objects, %u occluders, one driving (set_occluder_poses each frame)", apron_objects().size(),
+                  report.occluders);
+      ImGui::Text("%s: sky occlusion pass %.2f ms, objects %.2f ms", panel->finish_sections ? "to glFinish" : "GPU",
+                  shown_ms(kSectionSkyOcclusion), shown_ms(kSectionObjects));
+      if (!std::isnan(report.sky_occlusion_cpu_ms))
+        ImGui::Text("get_sky_occlusion %.2f ms CPU, longest tile list %u", report.sky_occlusion_cpu_ms,
+                    report.longest_tile_list);
+    }
+  }
+
   if (ImGui::CollapsingHeader("Lights", ImGuiTreeNodeFlags_DefaultOpen)) {
     // set_lights when the choice changes: group 0 the runway or the airport, group 1 the town.
     for (LightsChoice c : kLightsChoices) {
@@ -479,6 +516,17 @@ int run_window(const Options& options, SceneSettings settings) {
     renderer->gl_shutdown();
     return 1;
   }
+  // The apron's objects, read once (the panel turns them on and off); asked for and missing: a setup failure.
+  std::string objects_error;
+  if (!renderer->load_objects(options.objects_dir, &objects_error)) {
+    if (settings.objects != ObjectsChoice::None) {
+      std::fprintf(stderr, "atmo-sample-host: --objects %s: %s\n", objects_choice_name(settings.objects),
+                   objects_error.c_str());
+      renderer->gl_shutdown();
+      return 2;
+    }
+    objects_error = "objects: " + objects_error;
+  }
 
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
@@ -492,6 +540,7 @@ int run_window(const Options& options, SceneSettings settings) {
   panel.smoothed_ms.fill(std::nan(""));
   panel.smoothed_wall_ms.fill(std::nan(""));
   if (settings.fog_visibility_m > 0.0) panel.rvr_m = settings.fog_visibility_m;
+  panel.objects_error = objects_error;
   panel.apply_clouds = !settings.clouds.layers.empty();  // the command line's layers
   FrameReport report;
   std::string last_printed;

@@ -23,6 +23,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "atmo_host_scene/sky_occlusion_binding.h"
 #include "core/shadows/occlusion_frame.h"
 #include "core/shadows/occlusion_twin.h"
 #include "host_shader.h"
@@ -164,36 +165,6 @@ struct OccludersInput {
   }
 };
 
-// ---- The include's inputs as a host binds them (its header's "HOST USE") ----
-
-void bind_sky_occlusion(GLuint program, const AtmoSkyOcclusion& o, int first_unit) {
-  const GLuint textures[5] = {o.tables, o.spheres, o.objects, o.tiles, o.tile_objects};
-  const char* names[5] = {"atmo_occ_tables", "atmo_occ_spheres", "atmo_occ_objects", "atmo_occ_tiles",
-                          "atmo_occ_tile_objects"};
-  for (int i = 0; i < 5; ++i) {
-    glActiveTexture(GL_TEXTURE0 + first_unit + i);
-    glBindTexture(GL_TEXTURE_2D, textures[i]);
-    glUniform1i(glGetUniformLocation(program, names[i]), first_unit + i);
-  }
-  glActiveTexture(GL_TEXTURE0);
-  float m16[16], m9[9], v4[4], v3[3];
-  for (int i = 0; i < 16; ++i) m16[i] = float(o.tile_from_position[i]);
-  for (int i = 0; i < 9; ++i) m9[i] = float(o.enu_from_world[i]);
-  glUniformMatrix4fv(glGetUniformLocation(program, "atmo_occ_tile_from_position"), 1, GL_FALSE, m16);
-  glUniformMatrix3fv(glGetUniformLocation(program, "atmo_occ_enu_from_world"), 1, GL_FALSE, m9);
-  auto vec4_of = [&](const char* name, const double* d) {
-    for (int i = 0; i < 4; ++i) v4[i] = float(d[i]);
-    glUniform4fv(glGetUniformLocation(program, name), 1, v4);
-  };
-  vec4_of("atmo_occ_grid", o.grid);
-  vec4_of("atmo_occ_limits", o.limits);
-  vec4_of("atmo_occ_sun", o.sun);
-  for (int i = 0; i < 3; ++i) v3[i] = float(o.sun_lux[i]);
-  glUniform3fv(glGetUniformLocation(program, "atmo_occ_sun_lux"), 1, v3);
-  glUniform3fv(glGetUniformLocation(program, "atmo_occ_sky_sh9"), 9, o.sky_sh9);
-  glUniform3fv(glGetUniformLocation(program, "atmo_occ_sun_sh9"), 9, o.sun_sh9);
-  glUniform4fv(glGetUniformLocation(program, "atmo_occ_transfer"), 108, o.transfer);
-}
 
 // ---- Read-back ----
 
@@ -369,7 +340,7 @@ struct Scene {
     std::vector<std::vector<float>> out;
     {
       Targets targets;  // first: it binds its textures on unit 0
-      bind_sky_occlusion(program, o, 0);
+      const atmo::host_scene::SkyOcclusionBinding binding(program, o, 0);  // as a host binds them
       glViewport(0, 0, kW, kH);
       glDisable(GL_BLEND);
       glDisable(GL_DEPTH_TEST);

@@ -173,6 +173,17 @@ TEST(Loader, EveryFieldIsRead) {
   EXPECT_EQ(s.lights->airport->taxiway_length_m, 1500.0);
   ASSERT_TRUE(s.lights->town);
   EXPECT_EQ(s.lights->town->centre_enu_m, (std::array<double, 2>{-3000, 4000}));
+  ASSERT_EQ(s.objects.size(), 2u);
+  EXPECT_EQ(s.objects[0].spheres, "objects/van.spheres.json");
+  EXPECT_EQ(s.objects[0].mesh, "objects/van.obj");
+  EXPECT_EQ(s.objects[0].position_m, (std::array<double, 3>{12.5, -40, 0.25}));
+  EXPECT_EQ(s.objects[0].heading_deg, -45.0);
+  EXPECT_EQ(s.objects[0].albedo, (std::array<double, 3>{0.6, 0.1, 0.05}));
+  EXPECT_EQ(s.objects[1].mesh, "objects/hangar.ply");
+  EXPECT_EQ(s.objects[1].heading_deg, 0.0);                                    // default
+  EXPECT_EQ(s.objects[1].albedo, (std::array<double, 3>{0.5, 0.5, 0.5}));  // default
+  EXPECT_EQ(sc::resolve_path(s, s.objects[0].spheres),
+            (fs::absolute(fs::path(ATMO_SCENARIO_TEST_DATA) / "objects/van.spheres.json")).lexically_normal().string());
   EXPECT_EQ(s.lights->town->lights, 500u);
   EXPECT_EQ(s.lights->town->lights_per_km2, 800.0);
   EXPECT_EQ(s.lights->town->seed, 7u);
@@ -478,6 +489,22 @@ std::vector<Mutation> boundary_cases() {
       {"/lights", {{"town", {{"lights_per_km2", 100001}}}}, false},
       {"/lights", {{"town", {{"seed", -1}}}}, false},
       {"/lights", {{"town", {{"centre_enu_m", {"0", 5000}}}}}, false},
+      {"/objects", obj, false},
+      {"/objects", json::array(), true},
+      {"/objects", {{{"spheres", "a.spheres.json"}, {"mesh", "a.obj"}, {"position_m", {1, 2, 0}}}}, true},
+      {"/objects", {{{"mesh", "a.obj"}, {"position_m", {1, 2, 0}}}}, false},
+      {"/objects", {{{"spheres", "a.spheres.json"}, {"position_m", {1, 2, 0}}}}, false},
+      {"/objects", {{{"spheres", "a.spheres.json"}, {"mesh", "a.obj"}}}, false},
+      {"/objects", {{{"spheres", ""}, {"mesh", "a.obj"}, {"position_m", {1, 2, 0}}}}, false},
+      {"/objects", {{{"spheres", "a.spheres.json"}, {"mesh", 3}, {"position_m", {1, 2, 0}}}}, false},
+      {"/objects", {{{"spheres", "s"}, {"mesh", "m"}, {"position_m", {1, 2}}}}, false},
+      {"/objects", {{{"spheres", "s"}, {"mesh", "m"}, {"position_m", {1, 2, 0}}, {"heading_deg", -360}}}, true},
+      {"/objects", {{{"spheres", "s"}, {"mesh", "m"}, {"position_m", {1, 2, 0}}, {"heading_deg", 360.5}}}, false},
+      {"/objects", {{{"spheres", "s"}, {"mesh", "m"}, {"position_m", {1, 2, 0}}, {"albedo", {0, 0, 1}}}}, true},
+      {"/objects", {{{"spheres", "s"}, {"mesh", "m"}, {"position_m", {1, 2, 0}}, {"albedo", {0, -0.1, 1}}}}, false},
+      {"/objects", {{{"spheres", "s"}, {"mesh", "m"}, {"position_m", {1, 2, 0}}, {"albedo", {0.5, 0.5}}}}, false},
+      {"/objects", {{{"spheres", "s"}, {"mesh", "m"}, {"position_m", {1, 2, 0}}, {"colour", {1, 1, 1}}}}, false},
+      {"/objects", json::array({json::array()}), false},
       {"/night_sky", {{"stars", "yes"}}, false},
       {"/night_sky", {{"planets", true}}, false},
       {"/render", {{"depth_convention", "standard"}, {"output", "display_srgb"}}, true},
@@ -513,6 +540,36 @@ INSTANTIATE_TEST_SUITE_P(Fields, Boundary, ::testing::ValuesIn(boundary_cases())
                            return name + "_" + std::to_string(info.index) +
                                   (info.param.valid ? "_accepted" : "_rejected");
                          });
+
+// At most ATMO_OCCLUDER_OBJECTS_MAX objects, as set_occluders takes; the error names the array.
+TEST(Loader, ObjectsAreAtMostWhatSetOccludersTakes) {
+  json d = minimal();
+  const json object = {{"spheres", "s.json"}, {"mesh", "m.obj"}, {"position_m", {0, 0, 0}}};
+  d["objects"] = json::array();
+  for (size_t i = 0; i < sc::kMaxObjects; ++i) d["objects"].push_back(object);
+  auto r = load(d);
+  ASSERT_TRUE(r.scenario) << r.error;
+  EXPECT_EQ(r.scenario->objects.size(), sc::kMaxObjects);
+  d["objects"].push_back(object);
+  r = load(d);
+  EXPECT_EQ(r.error, "test.json: /objects: expected an array of at most 4096 objects, found an array of 4097");
+}
+
+// A malformed object names its element and index.
+TEST(Loader, ObjectErrorsNameTheElement) {
+  json d = minimal();
+  const json ok = {{"spheres", "s.json"}, {"mesh", "m.obj"}, {"position_m", {0, 0, 0}}};
+  d["objects"] = {ok, ok, ok};
+  d["objects"][2]["albedo"] = {0.5, 1.5, 0.5};
+  EXPECT_EQ(load(d).error, "test.json: /objects/2/albedo/1: expected a number in [0, 1], found 1.5");
+  d["objects"][2].erase("albedo");
+  d["objects"][1].erase("mesh");
+  EXPECT_EQ(load(d).error,
+            "test.json: /objects/1/mesh: required field missing: expected a path to an OBJ or PLY mesh");
+  d["objects"][1]["mesh"] = "m.obj";
+  d["objects"][0]["position_m"] = {0, "north", 0};
+  EXPECT_EQ(load(d).error, "test.json: /objects/0/position_m/1: expected a number, found \"north\"");
+}
 
 TEST(Loader, MoonOffIsReportedAndCameraExposureIsRead) {
   json d = minimal();

@@ -88,11 +88,12 @@ double sun_elevation_deg(double lat_deg, double lon_deg, double posix_s) {
 
 const std::vector<std::string> kShipped = {
     "airport_night_clear.json", "airport_night_fog_rvr550.json", "airport_night_haze_5km.json",
+    "apron_objects_low_sun.json", "apron_objects_noon.json",
     "cirrus_overhead.json", "civil_twilight.json", "cumulus_8_oktas_horizon.json", "cumulus_flythrough.json", "high_altitude_12km.json", "moonlit_night.json",
     "noon_clear.json",     "orbit_night_5000km.json", "overcast_dusk.json",      "overcast_low_sun.json",
     "runway_fog_night.json", "sunset_haze.json", "vdb_cloud.json"};
 
-TEST(ShippedScenarios, AreExactlyTheDocumentedSixteen) {
+TEST(ShippedScenarios, AreExactlyTheDocumentedEighteen) {
   EXPECT_EQ(json_files(kConfig / "scenarios", ""), kShipped);
 }
 
@@ -151,6 +152,7 @@ TEST_P(ShippedScenario, SunElevationMatchesTheName) {
       {"vdb_cloud.json", 30, 90},
       {"airport_night_fog_rvr550.json", -90, -18}, {"airport_night_haze_5km.json", -90, -18},
       {"airport_night_clear.json", -90, -18},
+      {"apron_objects_noon.json", 50, 90},       {"apron_objects_low_sun.json", 6, 10},
       // Behind the Earth from the camera 5000 km up: below the horizon's dip there, acos(R / (R + h)) = 55.9°.
       {"orbit_night_5000km.json", -90, -56}};
   const auto r = sc::load_scenario_file((kConfig / "scenarios" / GetParam()).string());
@@ -231,6 +233,7 @@ const Malformed kMalformed[] = {
     {"bad_airport_runway_length.json", "/lights/airport/runways/1/length_m", "expected a number in [300, 6000], found 100", true},
     {"bad_town_lights.json", "/lights/town/lights", "expected an integer in [1, 65536], found 70000", true},
     {"bad_luminance_check_bounds.json", "/expectations/luminance_checks/0/max_cd_m2", "expected a number >= min_cd_m2 (500), found 100", false},
+    {"bad_object_albedo.json", "/objects/2/albedo/1", "expected a number in [0, 1], found 1.5", true},
     {"bad_missing_camera_field.json", "/cameras/0/height", "required field missing: expected an integer in [1, 8192]", true},
     {"bad_missing_required.json", "/utc", "required field missing", true},
     {"bad_out_of_range.json", "/cameras/0/vertical_fov_deg", "expected a number in (0, 180), found 270", true},

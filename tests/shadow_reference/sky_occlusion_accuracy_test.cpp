@@ -29,14 +29,8 @@ shadows::OcclusionFrame frame_for(const std::vector<shadows::OccluderObject>& ob
     ptrs.push_back(&o);
     poses.push_back(glm::translate(glm::dmat4(1.0), glm::dvec3(0, 60, -3)));
   }
-  const glm::dmat4 view(glm::dvec4(1, 0, 0, 0), glm::dvec4(0, 0, -1, 0), glm::dvec4(0, 1, 0, 0), glm::dvec4(0, 0, 0, 1));
-  const double f = 1.0 / std::tan(0.75), n = 0.1, fa = 1e5;
-  glm::dmat4 proj(0.0);
-  proj[0][0] = f;
-  proj[1][1] = f;
-  proj[2][2] = (fa + n) / (n - fa);
-  proj[2][3] = -1.0;
-  proj[3][2] = 2.0 * fa * n / (n - fa);
+  const glm::dmat4 view = glm::lookAt(glm::dvec3(0.0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1));  // north
+  const glm::dmat4 proj = glm::perspective(1.5, 16.0 / 9.0, 0.1, 1e5);
   return shadows::make_occlusion_frame(ptrs, poses, proj * view, glm::dmat3(1.0), 1280, 720,
                                        shadows::make_sky_transfer(test_sky_sh(4), sun, sun_lux), sun, sun_lux,
                                        shadows::OcclusionLimits{});

@@ -31,6 +31,10 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--repeat", render.repeat, "Frames to render per camera for timing (the last is written)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
+  render_cmd->add_flag("--no-sky-occlusion", render.no_sky_occlusion,
+                       "Draw the scenario's objects lit by the open sky, without their sky occlusion (no ATMO_PASS_SKY_OCCLUSION, "
+                       "no get_sky_occlusion: no shadows, no bounce), to compare with; the reference image check then "
+                       "fails where they cast shadows");
 
   atmo::validate::Options validate;
   CLI::App* validate_cmd = app.add_subcommand(

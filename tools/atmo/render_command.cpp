@@ -16,6 +16,7 @@
 #include "atmo/atmo.hpp"
 #include "atmo_host_scene/camera.h"
 #include "atmo_host_scene/depth_setup.h"
+#include "atmo_host_scene/objects.h"
 #include "atmo_host_scene/terrain.h"
 #include "atmo_scenario/scenario.h"
 #include "atmo_support/headless_gl.h"
@@ -184,6 +185,9 @@ int run_render(const Options& options) {
     for (const sc::Notice& n : scenario.not_yet_supported)
       std::printf("  not yet supported: %s: %s\n", n.path.c_str(), n.message.c_str());
 
+    // The objects' files first: a file that cannot be read fails before any GL or plugin work.
+    const ScenarioObjects objects = objects_of(scenario);
+
     std::string error;
     auto gl = support::HeadlessGl::create(support::HeadlessGl::Profile::Core, &error);
     if (!gl) throw std::runtime_error("no headless OpenGL context: " + error);
@@ -203,6 +207,22 @@ int run_render(const Options& options) {
 
     hs::Terrain terrain(terrain_of(scenario));
     if (!terrain.gl_init(&error)) throw std::runtime_error("terrain: " + error);
+
+    // The scenario's objects (read above): drawn by the host after its terrain and the plugin's occluders (ENU at
+    // the scenario's origin): their sky shadow, Sun shadow and bounce on the terrain and on themselves.
+    hs::ObjectMeshes object_meshes;
+    if (!objects.empty()) {
+      if (!context.api().set_occluders)
+        throw std::runtime_error("/objects: the plugin predates sky occlusion (no set_occluders in its table)");
+      if (!object_meshes.gl_init(objects.mesh_pointers(), &error)) throw std::runtime_error("/objects: " + error);
+      const std::vector<AtmoOccluderObject> occluders = objects.occluder_objects();
+      const AtmoOccludersState state = occluders_state_enu(origin_of(scenario), occluders);
+      context.check(context.api().set_occluders(context.handle(), &state), "set_occluders");
+      size_t spheres = 0;
+      for (const auto& list : objects.spheres) spheres += list.size();
+      std::printf("  objects: %zu (%zu meshes, %zu spheres)%s\n", objects.instances.size(), objects.meshes.size(),
+                  spheres, options.no_sky_occlusion ? ", sky occlusion pass left out (--no-sky-occlusion)" : "");
+    }
     const hs::DepthConvention depth = depth_of(scenario, options.depth_override);
 
     Checks checks;
@@ -243,7 +263,18 @@ int run_render(const Options& options) {
                                                          {ATMO_PASS_CLOUDS, "clouds"},
                                                          {ATMO_PASS_LIGHT_GLOWS, "light glows"},
                                                          {ATMO_PASS_LIGHT_POINTS, "light points"}};
-      std::vector<PassTiming> timings = {{"terrain (host)", {}, ""}};  // then one row per pass
+      // The host's surfaces first. The objects' sky occlusion (docs/SKY_OCCLUSION.md) before the aerial
+      // perspective adds the air in front: ATMO_PASS_SKY_OCCLUSION over the terrain (facing up:
+      // ATMO_PASS_SKY_OCCLUSION_NORMAL_UP), then the objects drawn after it with atmo_sky_occlusion.glsl and
+      // their own normals (get_sky_occlusion; the pass would otherwise take their normals from the depth's
+      // derivatives: wrong at their silhouettes, and depending on the depth's precision).
+      // Neither without objects.
+      std::vector<PassTiming> timings = {
+          {"terrain (host)", {}, ""}, {"sky occlusion", {}, ""}, {"objects (host)", {}, ""}};  // then the passes
+      constexpr size_t kFirstPass = 3;
+      const hs::ObjectLighting object_lighting = hs::object_lighting_from_atmo(lighting);
+      if (objects.empty()) timings[1].status = timings[2].status = "no objects";
+      if (!objects.empty() && options.no_sky_occlusion) timings[1].status = "left out (--no-sky-occlusion)";
       for (const auto& pass : passes) timings.push_back({pass.second, {}, ""});
       PassTimer timer;
       for (int rep = 0; rep < options.repeat; ++rep) {
@@ -261,17 +292,42 @@ int run_render(const Options& options) {
           });
           timings[0].ms.push_back(timer.last_ms());
           timings[0].query_ms = timer.last_query_ms();
+          if (!objects.empty() && !options.no_sky_occlusion) {
+            AtmoResult r = timer.time([&] {
+              auto info = atmo::make<AtmoPassInfo>(ATMO_TYPE_PASS_INFO);
+              info.pass = ATMO_PASS_SKY_OCCLUSION;
+              info.flags = ATMO_PASS_SKY_OCCLUSION_NORMAL_UP;
+              return context.check(context.api().render_pass(view.handle(), &info), "render_pass");
+            });
+            timings[1].ms.push_back(timer.last_ms());
+            timings[1].query_ms = timer.last_query_ms();
+            timings[1].status = plugin.result_string(r);
+          }
+          if (!objects.empty()) {
+            timer.time([&] {
+              // This view's occluders this frame (after set_view), for the objects' shader.
+              auto occlusion = atmo::make<AtmoSkyOcclusion>(ATMO_TYPE_SKY_OCCLUSION);
+              if (!options.no_sky_occlusion)
+                context.check(context.api().get_sky_occlusion(view.handle(), &occlusion), "get_sky_occlusion");
+              object_meshes.draw(setup, object_lighting, objects.instances,
+                                 options.no_sky_occlusion ? nullptr : &occlusion);
+              return 0;
+            });
+            timings[2].ms.push_back(timer.last_ms());
+            timings[2].query_ms = timer.last_query_ms();
+          }
         }
         const bool stars = !scenario.night_sky || scenario.night_sky->stars;
         for (size_t p = 0; p < std::size(passes); ++p) {
+          PassTiming& timing = timings[kFirstPass + p];
           if (passes[p].first == ATMO_PASS_NIGHT_SKY && !stars) {
-            timings[p + 1].status = "left out (night_sky.stars: false)";
+            timing.status = "left out (night_sky.stars: false)";
             continue;
           }
           AtmoResult r = timer.time([&] { return view.render(passes[p].first); });
-          timings[p + 1].ms.push_back(timer.last_ms());
-          timings[p + 1].query_ms = timer.last_query_ms();
-          timings[p + 1].status = plugin.result_string(r);
+          timing.ms.push_back(timer.last_ms());
+          timing.query_ms = timer.last_query_ms();
+          timing.status = plugin.result_string(r);
         }
       }
       glFinish();
@@ -345,6 +401,7 @@ int run_render(const Options& options) {
       report["cameras"].push_back(cam_report);
     }
     terrain.gl_shutdown();
+    object_meshes.gl_shutdown();
     context.gl_shutdown();
 
     report["checks"] = checks.list;

@@ -1,6 +1,7 @@
 #include "scenario_setup.h"
 
 #include <algorithm>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -8,6 +9,7 @@
 
 #include "atmo/atmo.hpp"
 #include "atmo_host_scene/light_layouts.h"
+#include "sphere_json.h"
 
 namespace atmo::render {
 
@@ -79,6 +81,75 @@ std::vector<AtmoLightPoint> light_points_of(const sc::Scenario& s, const hs::Ter
                              " lights in all (runway, airport, town and points), more than set_lights takes (" +
                              std::to_string(ATMO_LIGHTS_MAX) + ")");
   return points;
+}
+
+std::vector<const spheres::TriangleMesh*> ScenarioObjects::mesh_pointers() const {
+  std::vector<const spheres::TriangleMesh*> out;
+  for (const spheres::TriangleMesh& m : meshes) out.push_back(&m);
+  return out;
+}
+
+std::vector<AtmoOccluderObject> ScenarioObjects::occluder_objects() const {
+  std::vector<AtmoOccluderObject> out;
+  for (size_t i = 0; i < instances.size(); ++i) {
+    AtmoOccluderObject o{};
+    o.spheres = spheres[i].empty() ? nullptr : spheres[i].data();
+    o.sphere_count = static_cast<uint32_t>(spheres[i].size());
+    o.sphere_size = sizeof(AtmoOccluderSphere);
+    for (int c = 0; c < 3; ++c) o.albedo[c] = instances[i].albedo[c];
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) o.world_from_object[c * 4 + r] = instances[i].enu_from_object[c][r];
+    out.push_back(o);
+  }
+  return out;
+}
+
+ScenarioObjects objects_of(const sc::Scenario& s) {
+  ScenarioObjects out;
+  std::map<std::string, size_t> mesh_index;  // resolved path -> index into out.meshes
+  for (size_t i = 0; i < s.objects.size(); ++i) {
+    const sc::SceneObject& o = s.objects[i];
+    const std::string at = "/objects/" + std::to_string(i);
+    const std::string mesh_path = sc::resolve_path(s, o.mesh);
+    auto found = mesh_index.find(mesh_path);
+    if (found == mesh_index.end()) {
+      try {
+        out.meshes.push_back(spheres::read_mesh(mesh_path));
+      } catch (const std::exception& e) {
+        throw std::runtime_error(at + "/mesh: " + e.what());
+      }
+      if (out.meshes.back().triangles.empty()) throw std::runtime_error(at + "/mesh: " + mesh_path + ": no triangles");
+      found = mesh_index.emplace(mesh_path, out.meshes.size() - 1).first;
+    }
+    spheres::SphereSet set;
+    try {
+      set = spheres::read_sphere_set(sc::resolve_path(s, o.spheres));
+    } catch (const std::exception& e) {
+      throw std::runtime_error(at + "/spheres: " + e.what());
+    }
+    out.spheres.push_back(hs::occluder_spheres(set));
+    hs::ObjectInstance instance;
+    instance.mesh = found->second;
+    instance.enu_from_object =
+        hs::enu_from_object_pose(glm::dvec3(o.position_m[0], o.position_m[1], o.position_m[2]), o.heading_deg);
+    instance.albedo = glm::dvec3(o.albedo[0], o.albedo[1], o.albedo[2]);
+    out.instances.push_back(instance);
+  }
+  return out;
+}
+
+AtmoOccludersState occluders_state_enu(const hs::Geodetic& origin, const std::vector<AtmoOccluderObject>& objects,
+                                       uint32_t flags) {
+  AtmoOccludersState state = atmo::make<AtmoOccludersState>(ATMO_TYPE_OCCLUDERS_STATE);
+  state.world_frame = ATMO_WORLD_ENU;
+  state.object_size = sizeof(AtmoOccluderObject);
+  state.world_origin_geodetic[0] = origin.latitude_deg;
+  state.world_origin_geodetic[1] = origin.longitude_deg;
+  state.world_origin_geodetic[2] = origin.height_m;
+  state.objects = objects.empty() ? nullptr : objects.data();
+  state.object_count = static_cast<uint32_t>(objects.size());
+  state.flags = flags;
+  return state;
 }
 
 AtmoAtmosphereState atmosphere_state_of(const scenario::Scenario& s) {

@@ -1,7 +1,8 @@
 // scenario_setup.h — what `atmo render` hands the plugin and the host scene for
 // a scenario, as plain data: the terrain's options, the light list (the
 // runway's generated lights, the airport and town layouts and the file's own
-// points), the fog state and a camera's view setup. One place, so a test that
+// points), the fog state, the objects (meshes, sphere sets, poses: what
+// set_occluders gets) and a camera's view setup. One place, so a test that
 // recomputes a render's light from the same inputs
 // (tests/render/runway_fog_night_test.cpp, airport_night_test.cpp) uses
 // exactly what the render used.
@@ -14,6 +15,7 @@
 #include "atmo/atmo.h"
 #include "atmo_host_scene/camera.h"
 #include "atmo_host_scene/light_layouts.h"
+#include "atmo_host_scene/objects.h"
 #include "atmo_host_scene/terrain.h"
 #include "atmo_scenario/scenario.h"
 
@@ -35,6 +37,30 @@ host_scene::TownSpec town_spec_of(const scenario::TownLights& t);
 // airport's lights, the town's, then the file's own points (omnidirectional).
 // Empty without a "lights" block; throws (naming /lights) past ATMO_LIGHTS_MAX.
 std::vector<AtmoLightPoint> light_points_of(const scenario::Scenario& s, const host_scene::Terrain& terrain);
+
+// The scenario's objects ("objects"), read from their files: the meshes the
+// host draws (one per distinct file), each object's spheres (object frame),
+// its pose in the ENU frame at origin_of(s) (host_scene::enu_from_object_pose
+// of position_m and heading_deg) and its albedo.
+struct ScenarioObjects {
+  std::vector<spheres::TriangleMesh> meshes;
+  std::vector<std::vector<AtmoOccluderSphere>> spheres;   // per object
+  std::vector<host_scene::ObjectInstance> instances;      // per object: mesh index, pose, albedo
+
+  bool empty() const { return instances.empty(); }
+  std::vector<const spheres::TriangleMesh*> mesh_pointers() const;
+  // set_occluders' objects, pointing into `spheres` (valid while this lives, unchanged).
+  std::vector<AtmoOccluderObject> occluder_objects() const;
+};
+
+// Reads every object's files (paths resolved against the scenario file); throws std::runtime_error naming the
+// element and the file's own error, e.g. "/objects/2/spheres: /x/van.spheres.json: spheres[3].radius_m: ...".
+ScenarioObjects objects_of(const scenario::Scenario& s);
+
+// set_occluders' state for `objects` (from ScenarioObjects::occluder_objects, which must outlive the call):
+// ENU at `origin`, the poses as given; flags AtmoOcclusionFlags.
+AtmoOccludersState occluders_state_enu(const host_scene::Geodetic& origin,
+                                       const std::vector<AtmoOccluderObject>& objects, uint32_t flags = 0);
 
 // set_atmosphere's and set_frame's states: the file's air and its UTC.
 AtmoAtmosphereState atmosphere_state_of(const scenario::Scenario& s);

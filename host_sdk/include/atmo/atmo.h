@@ -466,9 +466,10 @@ typedef enum AtmoPass {
      colour *= the surface's light with the objects (their sky shadow, the
      Sun's visibility past them, their bounce) / its light without (get_lighting's
      sky SH9 and Sun), at the host depth, with the depth's normal or, with
-     ATMO_PASS_SKY_OCCLUSION_NORMAL_UP, facing up. Call after the surfaces it
-     shades and before ATMO_PASS_AERIAL_PERSPECTIVE; draw the surfaces that
-     use the include after it. NOTHING_TO_DRAW, with no GL call, without
+     ATMO_PASS_SKY_OCCLUSION_NORMAL_UP, facing up (terrain: the depth's normal
+     is unreliable on silhouettes, so shade objects with the include). Call
+     after the surfaces it shades and before ATMO_PASS_AERIAL_PERSPECTIVE;
+     draw the surfaces that use the include after it. NOTHING_TO_DRAW, with no GL call, without
      objects or depth. docs/SKY_OCCLUSION.md. */
   ATMO_PASS_SKY_OCCLUSION = 6,
   ATMO_PASS_COUNT = 7

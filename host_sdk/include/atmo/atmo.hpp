@@ -182,6 +182,16 @@ class Context {
       throw std::runtime_error("set_light_group_pose: the plugin has no light groups (an older plugin)");
     check(api_->set_light_group_pose(context_, &p), "set_light_group_pose");
   }
+  // The host's objects as occluders of the sky (docs/SKY_OCCLUSION.md); nullptr clears them.
+  void set_occluders(const AtmoOccludersState* s) {
+    if (!api_->set_occluders) throw std::runtime_error("set_occluders: the plugin has no sky occlusion (an older plugin)");
+    check(api_->set_occluders(context_, s), "set_occluders");
+  }
+  void set_occluder_poses(const AtmoOccluderPoses& p) {
+    if (!api_->set_occluder_poses)
+      throw std::runtime_error("set_occluder_poses: the plugin has no sky occlusion (an older plugin)");
+    check(api_->set_occluder_poses(context_, &p), "set_occluder_poses");
+  }
   void update_lights(const AtmoLightsUpdate& u) {
     if (!api_->update_lights) throw std::runtime_error("update_lights: the plugin has no light groups (an older plugin)");
     check(api_->update_lights(context_, &u), "update_lights");
@@ -219,9 +229,10 @@ class View {
 
   void set(const AtmoViewState& s) { context_->check(context_->api().set_view(view_, &s), "set_view"); }
   // [gl-current] Returns ATMO_SUCCESS or ATMO_STATUS_NOTHING_TO_DRAW.
-  AtmoResult render(AtmoPass pass) {
+  AtmoResult render(AtmoPass pass, uint32_t flags = 0) {  // flags: AtmoPassFlags the pass takes
     auto info = make<AtmoPassInfo>(ATMO_TYPE_PASS_INFO);
     info.pass = static_cast<uint32_t>(pass);
+    info.flags = flags;
     return context_->check(context_->api().render_pass(view_, &info), "render_pass");
   }
   AtmoLighting lighting() const {
@@ -234,6 +245,13 @@ class View {
     auto out = make<AtmoFogLighting>(ATMO_TYPE_FOG_LIGHTING);
     if (context_->api().get_fog_lighting)
       context_->check(context_->api().get_fog_lighting(view_, &out), "get_fog_lighting");
+    return out;
+  }
+  // [gl-current] object_count 0 without occluders (or from an older plugin).
+  AtmoSkyOcclusion sky_occlusion() const {
+    auto out = make<AtmoSkyOcclusion>(ATMO_TYPE_SKY_OCCLUSION);
+    if (context_->api().get_sky_occlusion)
+      context_->check(context_->api().get_sky_occlusion(view_, &out), "get_sky_occlusion");
     return out;
   }
   AtmoView handle() const { return view_; }

@@ -24,7 +24,7 @@ namespace {
 const std::vector<ObjectShape> kShapes = {
     {"scenario",
      {"$schema", "schema_version", "name", "description", "location", "utc", "dut1_s", "cameras",
-      "atmosphere", "terrain", "clouds", "fog", "lights", "night_sky", "render", "outputs",
+      "atmosphere", "terrain", "clouds", "fog", "lights", "objects", "night_sky", "render", "outputs",
       "expectations"}},
     {"geodetic", {"latitude_deg", "longitude_deg", "height_m"}},
     {"position", {"enu_m", "geodetic"}},
@@ -42,6 +42,7 @@ const std::vector<ObjectShape> kShapes = {
     {"airport_runway", {"centre_enu_m", "heading_deg", "length_m", "width_m"}},
     {"town_lights", {"centre_enu_m", "lights", "lights_per_km2", "seed"}},
     {"light_point", {"enu_m", "intensity_cd", "color"}},
+    {"object", {"spheres", "mesh", "position_m", "heading_deg", "albedo"}},
     {"night_sky", {"stars", "moon"}},
     {"render", {"depth_convention", "exposure_ev100", "output", "cloud_draw_mode"}},
     {"outputs", {"exr", "png"}},
@@ -119,6 +120,7 @@ class Loader {
     if (const json* v = r.field("lights", false, "")) {
       lights(*v, r.child("lights"), s->terrain, &s->lights.emplace());
     }
+    if (const json* v = r.field("objects", false, "")) objects(*v, r.child("objects"), &s->objects);
     if (const json* v = r.field("night_sky", false, "")) {
       night_sky(*v, r.child("night_sky"), &s->night_sky.emplace());
       if (!s->night_sky->moon) {
@@ -409,6 +411,26 @@ class Loader {
     if (auto x = r.integer("lights", 1, 65536, 10000)) t->lights = static_cast<std::uint32_t>(*x);
     if (auto x = r.number("lights_per_km2", Range::closed(10, 100000), 1300.0)) t->lights_per_km2 = *x;
     if (auto x = r.integer("seed", 0, kMaxSeed, 1)) t->seed = static_cast<std::uint64_t>(*x);
+  }
+
+  void objects(const json& v, const std::string& ptr, std::vector<SceneObject>* out) {
+    if (!v.is_array() || v.size() > kMaxObjects) {
+      errors_.expected(ptr, "an array of at most " + std::to_string(kMaxObjects) + " objects", v);
+      return;
+    }
+    for (size_t i = 0; i < v.size(); ++i) {
+      SceneObject o;
+      ObjectReader r(errors_, v[i], ptr + "/" + std::to_string(i), shape("object"), "object");
+      if (!r.valid()) continue;
+      if (auto x = r.string("spheres", true, 1, "a path to a sphere-set file (\"atmo-spheres-1\")")) o.spheres = *x;
+      if (auto x = r.string("mesh", true, 1, "a path to an OBJ or PLY mesh")) o.mesh = *x;
+      if (const json* p = r.field("position_m", true, "an array of 3 numbers (east, north, up)")) {
+        vec<3>(*p, r.child("position_m"), Range::any(), &o.position_m);
+      }
+      if (auto x = r.number("heading_deg", Range::closed(-360, 360), 0.0)) o.heading_deg = *x;
+      if (const json* a = r.field("albedo", false, "")) vec<3>(*a, r.child("albedo"), Range::closed(0, 1), &o.albedo);
+      out->push_back(std::move(o));
+    }
   }
 
   void night_sky(const json& v, const std::string& ptr, NightSky* n) {

@@ -13,6 +13,7 @@
 #define ATMO_SCENARIO_SCENARIO_H
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -143,6 +144,22 @@ struct Lights {
   std::vector<LightPoint> points;
 };
 
+// One of the host's objects (an aircraft, a vehicle, a hangar): drawn by the
+// host from its mesh and handed to the plugin as an occluder of the sky
+// (set_occluders, its sphere set; docs/SKY_OCCLUSION.md). The object's frame
+// (tools/spheres: m, x forward, y left, z up, standing on z = 0) is turned by
+// heading_deg about up and its origin put at position_m.
+struct SceneObject {
+  std::string spheres;                       // an "atmo-spheres-1" file, as written (relative to the scenario file)
+  std::string mesh;                          // an OBJ or PLY mesh, as written (relative to the scenario file)
+  std::array<double, 3> position_m{};        // east, north, up from Scenario::location (the ENU frame's origin)
+  double heading_deg = 0.0;                  // [-360, 360]: the object's x axis from true north, clockwise
+  std::array<double, 3> albedo{0.5, 0.5, 0.5};  // diffuse reflectance, linear RGB, each [0, 1]
+};
+
+// At most ATMO_OCCLUDER_OBJECTS_MAX (atmo.h) objects.
+inline constexpr std::size_t kMaxObjects = 4096;
+
 // The night sky is drawn whenever it can be seen (the plugin decides by
 // physics and exposure); stars: false leaves out the night-sky pass (stars and
 // planets). The Moon belongs to the sky pass: moon: false is reported as not
@@ -213,6 +230,7 @@ struct Scenario {
   std::vector<CloudLayer> clouds;
   std::optional<Fog> fog;
   std::optional<Lights> lights;
+  std::vector<SceneObject> objects;  // none: no occluders (and no set_occluders call)
   std::optional<NightSky> night_sky;
   Render render;
   Outputs outputs;
@@ -233,7 +251,7 @@ LoadResult load_scenario_file(const std::string& path);
 // (if any) becomes Scenario::source_dir.
 LoadResult parse_scenario(const std::string& json_text, const std::string& file_label);
 
-// A path written in the scenario (reference image, VDB file) resolved against
+// A path written in the scenario (reference image, VDB file, object files) resolved against
 // the scenario file's directory; absolute paths are returned unchanged.
 std::string resolve_path(const Scenario& scenario, const std::string& relative);
 
