@@ -1,6 +1,6 @@
 // abi_fuzz.cpp — the ABI's struct readers through the plugin's C API:
-// set_atmosphere, set_frame, set_view, set_clouds, set_lights, update_lights, set_light_group_pose, set_fog and
-// get_lighting with any bytes, any struct_size and type tag, extension chains
+// set_atmosphere, set_frame, set_view, set_clouds, set_lights, update_lights, set_light_group_pose, set_fog,
+// set_occluders, set_occluder_poses and get_lighting with any bytes, any struct_size and type tag, extension chains
 // (cycles too), and arrays of any count and stride (abi_input.h). No GL: one
 // context per process, made once; each input starts from the same state (no
 // clouds, fog or lights, the default air and a fresh view).
@@ -187,6 +187,7 @@ void reset_state(AtmoView* view) {
   check_result(g_api.set_clouds(g_ctx, &clouds), "set_clouds");
   check_result(g_api.set_fog(g_ctx, nullptr), "set_fog");
   check_result(g_api.set_lights(g_ctx, nullptr), "set_lights");
+  check_result(g_api.set_occluders(g_ctx, nullptr), "set_occluders");
   AtmoViewCreateInfo info{ATMO_HEADER(ATMO_TYPE_VIEW_CREATE_INFO, AtmoViewCreateInfo), 7, 0};
   FUZZ_CHECK(g_api.create_view(g_ctx, &info, view) == ATMO_SUCCESS, "create_view");
 }
@@ -255,6 +256,50 @@ void call(Reader& in, AtmoView view) {
                                             [](const AtmoLightGroupPose* p) {
                                               return g_api.set_light_group_pose(g_ctx, p);
                                             });
+    case atmo_fuzz::kSetOccluders: {
+      HostStruct<AtmoOccludersState> s;
+      read_struct(in, head, ATMO_TYPE_OCCLUDERS_STATE, &s);
+      uint32_t count = head.count;
+      const uint32_t element = head.stride ? head.stride : static_cast<uint32_t>(sizeof(AtmoOccluderObject));
+      std::vector<unsigned char> objects = read_array(in, &count, element, ATMO_OCCLUDER_OBJECTS_MAX);
+      // Each object's spheres follow; its pointer and count are the harness's (a host's pointers are its own).
+      const bool read = count <= ATMO_OCCLUDER_OBJECTS_MAX;  // else refused unread (read_array gave 16 bytes)
+      std::vector<std::vector<unsigned char>> spheres(read ? count : 0);
+      if (read && element >= sizeof(AtmoOccluderObject)) {
+        for (uint32_t i = 0; i < count; ++i) {
+          AtmoOccluderObject o;
+          std::memcpy(&o, objects.data() + static_cast<size_t>(i) * element, sizeof(o));
+          const uint32_t n = head.reserved & 31u;
+          spheres[i].assign(std::max<size_t>(static_cast<size_t>(n) * sizeof(AtmoOccluderSphere), 1), 0);
+          in.read(spheres[i].data(), static_cast<size_t>(n) * sizeof(AtmoOccluderSphere));
+          o.sphere_size = 0;
+          if (head.reserved & 128u) {
+            o.spheres = nullptr;  // the input's count with no array: refused unread
+          } else {
+            o.spheres = reinterpret_cast<const AtmoOccluderSphere*>(spheres[i].data());
+            o.sphere_count = n;
+          }
+          std::memcpy(objects.data() + static_cast<size_t>(i) * element, &o, sizeof(o));
+        }
+      }
+      s.value.object_count = count;
+      s.value.object_size = head.stride;
+      s.value.objects = (head.flags & 8) ? nullptr : reinterpret_cast<const AtmoOccluderObject*>(objects.data());
+      finish(&s);
+      check_result(g_api.set_occluders(g_ctx, null ? nullptr : s.get()), "set_occluders");
+      break;
+    }
+    case atmo_fuzz::kSetOccluderPoses: {
+      HostStruct<AtmoOccluderPoses> s;
+      read_struct(in, head, ATMO_TYPE_OCCLUDER_POSES, &s);
+      uint32_t count = head.count;
+      std::vector<unsigned char> poses = read_array(in, &count, 16 * sizeof(double), ATMO_OCCLUDER_OBJECTS_MAX);
+      s.value.count = count;
+      s.value.world_from_object = (head.flags & 8) ? nullptr : reinterpret_cast<const double*>(poses.data());
+      finish(&s);
+      check_result(g_api.set_occluder_poses(g_ctx, null ? nullptr : s.get()), "set_occluder_poses");
+      break;
+    }
     case atmo_fuzz::kSetClouds: {
       HostStruct<AtmoCloudsState> s;
       read_struct(in, head, ATMO_TYPE_CLOUDS_STATE, &s);

@@ -5,7 +5,11 @@
 //   CallHead                       what to call and how to lie about the struct
 //   sizeof(T) bytes                the struct as the host wrote it (its pointers
 //                                  and header.next are replaced, see below)
-//   count * stride bytes           set_clouds' layers / set_lights' and update_lights' lights
+//   count * stride bytes           set_clouds' layers / set_lights' and update_lights' lights /
+//                                  set_occluders' objects / set_occluder_poses' matrices (16 doubles each)
+//   per object: reserved's low 5 bits * 32 bytes   set_occluders: each object's spheres (its sphere_count is
+//                                  set to those, unless reserved bit 7 asks for the input's count with
+//                                  NULL spheres)
 // Missing bytes at the end of the input read as zero.
 //
 // Pointers never come from the input: the harness points them at memory it
@@ -39,7 +43,9 @@ enum Op : uint8_t {
   kGetLighting = 6,
   kUpdateLights = 7,
   kSetLightGroupPose = 8,
-  kOpCount = 9
+  kSetOccluders = 9,
+  kSetOccluderPoses = 10,
+  kOpCount = 11
 };
 
 enum CallFlags : uint8_t {

@@ -17,8 +17,8 @@ using atmo_fuzz::CallHead;
 struct Seed {
   std::string bytes;
   void head(atmo_fuzz::Op op, uint8_t flags = 0, uint8_t chain = 0, uint32_t struct_size = 0, uint32_t count = 0,
-            uint32_t stride = 0) {
-    CallHead h{static_cast<uint8_t>(op), flags, chain, 0, struct_size, count, stride};
+            uint32_t stride = 0, uint8_t reserved = 0) {
+    CallHead h{static_cast<uint8_t>(op), flags, chain, reserved, struct_size, count, stride};
     bytes.append(reinterpret_cast<const char*>(&h), sizeof(h));
   }
   template <typename T>
@@ -140,6 +140,40 @@ int main(int argc, char** argv) {
     s.head(kSetView);
     s.add(typical_view(2.0));
     s.write(dir + "/fog_two_lights");
+  }
+  {  // occluders: two objects of 3 spheres each, then both moved
+    Seed s;
+    s.head(kSetFrame);
+    s.add(typical_frame());
+    s.head(kSetView);
+    s.add(typical_view(2.0));
+    AtmoOccludersState o{};
+    o.header = ATMO_HEADER(ATMO_TYPE_OCCLUDERS_STATE, AtmoOccludersState);
+    o.world_frame = ATMO_WORLD_ENU;
+    o.world_origin_geodetic[0] = 47.0;
+    o.world_origin_geodetic[1] = 8.0;
+    s.head(kSetOccluders, 0, 0, 0, 2, sizeof(AtmoOccluderObject), 3);
+    s.add(o);
+    AtmoOccluderObject object{};
+    object.albedo[0] = object.albedo[1] = object.albedo[2] = 0.4;
+    for (int k = 0; k < 4; ++k) object.world_from_object[5 * k] = 1.0;
+    s.add(object);
+    object.world_from_object[12] = 30.0;
+    s.add(object);
+    for (int i = 0; i < 6; ++i) {  // each object's 3 spheres, after the objects
+      AtmoOccluderSphere sphere{{2.0 * (i % 3), 0.0, 3.0}, 1.5};
+      s.add(sphere);
+    }
+    AtmoOccluderPoses p{};
+    p.header = ATMO_HEADER(ATMO_TYPE_OCCLUDER_POSES, AtmoOccluderPoses);
+    s.head(kSetOccluderPoses, 0, 0, 0, 2);
+    s.add(p);
+    double m[2][16] = {};
+    for (auto& row : m)
+      for (int k = 0; k < 4; ++k) row[5 * k] = 1.0;
+    m[1][13] = 10.0;
+    s.add(m);
+    s.write(dir + "/occluders_two_moved");
   }
   {  // clouds: a small cumulus layer and a VDB file layer
     Seed s;
