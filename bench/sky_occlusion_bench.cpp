@@ -400,14 +400,20 @@ int main(int argc, char** argv) {
   if (csv)
     std::fprintf(csv, "sweep,objects,spheres_per_object,mode,pair_ms,pair_spread,trivial_ms,plain_ms,include_ms,ratio_to_pair,"
                       "added_ratio_to_pair,pair_query_ms,include_query_ms,longest_tile_list,poses_cpu_ms,"
-                      "get_sky_occlusion_cpu_ms,cpu_ms\n");
+                      "get_sky_occlusion_cpu_ms,cpu_ms,pass_ratio_to_pair,pass_quarter_ratio_to_pair,"
+                      "pass_eighth_ratio_to_pair,quarter_error_p50,quarter_error_p95,eighth_error_p50,eighth_error_p95,"
+                      "no_sun_quarter_error_p50,no_sun_quarter_error_p95,no_sun_eighth_error_p50,no_sun_eighth_error_p95\n");
   std::printf("== %dx%d, %s, %d timed frames a case (wall time to glFinish, median) ==\n", width, height,
               gl->renderer().c_str(), common.frames);
   // x_pair: the include pass / the pair, median of the frames' ratios (each frame's pair timed before and after
   // the others); added_x: (include pass - the same pass from the SH9 alone) / the pair; spread: the slowest pair
-  // of the case / its fastest (above ~1.2 the machine was shared); tiles: the longest tile list.
-  std::printf("%-8s %-8s %-15s %8s %7s %8s %8s %10s %8s %8s %6s %9s %9s\n", "objects", "spheres", "mode", "pair_ms",
-              "spread", "triv_ms", "plain_ms", "include_ms", "x_pair", "added_x", "tiles", "poses_ms", "get_ms");
+  // of the case / its fastest (above ~1.2 the machine was shared); tiles: the longest tile list; pass_x, pass4_x,
+  // pass8_x: ATMO_PASS_SKY_OCCLUSION over the ground (NORMAL_UP) at every pixel, a quarter and an eighth across,
+  // / the pair; err4, err8: the 95th percentile of |factor - every pixel's factor| (green) over the pixels whose
+  // every-pixel factor differs from 1 by 1 % or more.
+  std::printf("%-8s %-8s %-15s %8s %7s %8s %8s %10s %8s %8s %6s %9s %9s %7s %7s %7s %7s %7s\n", "objects", "spheres",
+              "mode", "pair_ms", "spread", "triv_ms", "plain_ms", "include_ms", "x_pair", "added_x", "tiles",
+              "poses_ms", "get_ms", "pass_x", "pass4_x", "pass8_x", "err4", "err8");
   Timer timer;
   for (const Case& c : cases) {
     const std::string name = std::to_string(c.objects) + " objects x " + std::to_string(c.spheres) + " spheres";
@@ -421,6 +427,7 @@ int main(int argc, char** argv) {
         return 1;
       }
       std::vector<double> pair, pair_extremes, triv, plain_ms, inc, ratio, added, pair_q, inc_q, poses_cpu, get_cpu;
+      std::vector<double> pass_ratio[3], error_p50[6], error_p95[6];
       std::vector<double> moved(16 * a.poses.size());
       uint32_t longest = 0;
       for (int f = -1; f < common.frames; ++f) {  // frame -1 warms up (programs, tables)
@@ -470,6 +477,35 @@ int main(int argc, char** argv) {
         const double trivial_ms = timer([&] { full_screen(trivial); }, &unused);
         const double p_ms = timer([&] { full_screen(plain); }, &unused);
         const double include_ms = timer([&] { full_screen(shading); }, &iq);
+        // The plugin's pass over the ground (terrain: NORMAL_UP) at every pixel, a quarter and an eighth across,
+        // on a colour of 1 (the framebuffer then holds the factor): its cost, and its factors against every pixel's.
+        // The error again with ATMO_PASS_SKY_OCCLUSION_NO_SUN (the Sun's shadow left to the host's maps): r 3..5.
+        double pass_ms[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+        std::vector<float> full_factor, factor(static_cast<size_t>(width) * height * 4);
+        for (int r = 0; r < 6; ++r) {
+          if (r >= 3 && (f < 0 || mode.flags != 0)) break;
+          const uint32_t resolution[3] = {0u, ATMO_PASS_SKY_OCCLUSION_QUARTER_RES, ATMO_PASS_SKY_OCCLUSION_EIGHTH_RES};
+          const uint32_t flags = ATMO_PASS_SKY_OCCLUSION_NORMAL_UP | resolution[r % 3] |
+                                 (r >= 3 ? uint32_t(ATMO_PASS_SKY_OCCLUSION_NO_SUN) : 0u);
+          glClearColor(1, 1, 1, 1);
+          glClear(GL_COLOR_BUFFER_BIT);
+          pass_ms[r] = timer([&] { view.render(ATMO_PASS_SKY_OCCLUSION, flags); }, &unused);
+          if (f < 0 || mode.flags != 0) continue;  // the error once a frame, in the default mode
+          glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, factor.data());
+          if (r % 3 == 0) {
+            full_factor = factor;
+            continue;
+          }
+          std::vector<double> diff;
+          for (size_t k = 0; k < factor.size(); k += 4)
+            if (std::abs(full_factor[k + 1] - 1.0f) > 0.01f)  // the pixels the objects change (by 1 % or more)
+              diff.push_back(std::abs(factor[k + 1] - full_factor[k + 1]));
+          std::sort(diff.begin(), diff.end());
+          if (!diff.empty()) {
+            error_p50[r].push_back(diff[diff.size() / 2]);
+            error_p95[r].push_back(diff[diff.size() * 95 / 100]);
+          }
+        }
         const double pair_after = timer(the_pair, &pq2);
         glDepthMask(GL_TRUE);
         if (f < 0) continue;
@@ -486,6 +522,7 @@ int main(int argc, char** argv) {
         inc_q.push_back(iq);
         poses_cpu.push_back(t1 - t0);
         get_cpu.push_back(t2 - t1);
+        for (int r = 0; r < 3; ++r) pass_ratio[r].push_back(pass_ms[r] / pair_ms);  // with the Sun
       }
       for (int i = 0; i < 5; ++i) {
         glActiveTexture(GL_TEXTURE0 + i);
@@ -498,15 +535,23 @@ int main(int argc, char** argv) {
       const double spread = *std::max_element(pair_extremes.begin(), pair_extremes.end()) /
                             *std::min_element(pair_extremes.begin(), pair_extremes.end());
       const double pc = median(poses_cpu), gc = median(get_cpu);
-      std::printf("%-8d %-8d %-15s %8.1f %7.2f %8.1f %8.1f %10.1f %8.2f %8.2f %6u %9.3f %9.3f\n", c.objects,
-                  c.spheres, mode.name, p, spread, t, pl, in, x, ax, longest, pc, gc);
+      auto med = [&](std::vector<double>& v) { return v.empty() ? 0.0 : median(v); };
+      const double px[3] = {med(pass_ratio[0]), med(pass_ratio[1]), med(pass_ratio[2])};
+      std::printf("%-8d %-8d %-15s %8.1f %7.2f %8.1f %8.1f %10.1f %8.2f %8.2f %6u %9.3f %9.3f %7.2f %7.2f %7.2f %7.4f "
+                  "%7.4f\n",
+                  c.objects, c.spheres, mode.name, p, spread, t, pl, in, x, ax, longest, pc, gc, px[0], px[1], px[2],
+                  med(error_p95[1]), med(error_p95[2]));
       std::fflush(stdout);
       if (csv) {
         std::stringstream sweeps(c.sweeps);
         for (std::string sweep; std::getline(sweeps, sweep, '+');)
-          std::fprintf(csv, "%s,%d,%d,%s,%.2f,%.3f,%.2f,%.2f,%.2f,%.4f,%.4f,%.2f,%.2f,%u,%.4f,%.4f,%.4f\n",
+          std::fprintf(csv,
+                       "%s,%d,%d,%s,%.2f,%.3f,%.2f,%.2f,%.2f,%.4f,%.4f,%.2f,%.2f,%u,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.5f,"
+                       "%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f\n",
                        sweep.c_str(), c.objects, c.spheres, mode.name, p, spread, t, pl, in, x, ax, median(pair_q),
-                       median(inc_q), longest, pc, gc, pc + gc);
+                       median(inc_q), longest, pc, gc, pc + gc, px[0], px[1], px[2], med(error_p50[1]),
+                       med(error_p95[1]), med(error_p50[2]), med(error_p95[2]), med(error_p50[4]), med(error_p95[4]),
+                       med(error_p50[5]), med(error_p95[5]));
         std::fflush(csv);
       }
     }

@@ -66,11 +66,12 @@ constexpr int kUnitsUsed = static_cast<int>(kTileObjectsUnit) + 1;
 static_assert(kUnitsUsed <= GlStateGuard::kMaxUnits, "the guard saves every unit the pass binds");
 }  // namespace
 
-bool OcclusionRenderer::build_program(bool bounce, std::string* error) {
-  GLuint& program = programs_[bounce ? 1 : 0];
+bool OcclusionRenderer::build_program(bool bounce, bool reduced, std::string* error) {
+  GLuint& program = programs_[reduced ? 1 : 0][bounce ? 1 : 0];
   if (!program) {
-    program = gl::build_program("fullscreen.vert", "sky_occlusion.frag", bounce ? "" : "#define ATMO_OCC_NO_BOUNCE\n",
-                                error);
+    const std::string defines =
+        std::string(bounce ? "" : "#define ATMO_OCC_NO_BOUNCE\n") + (reduced ? "#define ATMO_OCC_REDUCED\n" : "");
+    program = gl::build_program("fullscreen.vert", "sky_occlusion.frag", defines, error);
     if (!program) return false;
   }
   if (program_ == program) return true;
@@ -92,6 +93,8 @@ bool OcclusionRenderer::build_program(bool bounce, std::string* error) {
   u_sun_sh9_ = at("atmo_occ_sun_sh9");
   u_transfer_ = at("atmo_occ_transfer");
   u_normal_up_ = at("u_normal_up");
+  u_reduction_ = at("u_reduction");
+  u_no_sun_ = at("u_no_sun");
   if (!vao_) {
     create_pass_samplers(&linear_sampler_, &nearest_sampler_);
     glGenVertexArrays(1, &vao_);
@@ -99,11 +102,39 @@ bool OcclusionRenderer::build_program(bool bounce, std::string* error) {
   return check_gl("building the sky-occlusion program", error);
 }
 
+bool OcclusionRenderer::ensure_reduced_target(int width, int height, std::string* error) {
+  if (reduced_fbo_ && width == reduced_width_ && height == reduced_height_) return true;
+  if (!reduced_fbo_) glGenFramebuffers(1, &reduced_fbo_);
+  glActiveTexture(GL_TEXTURE0 + kTablesUnit);  // a unit the guard restores
+  texture_2d(&reduced_texture_, GL_RGBA32F, width, height, GL_RGBA, GL_FLOAT, nullptr, GL_NEAREST);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, reduced_fbo_);  // (the draw binding only: the guard restores it)
+  glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, reduced_texture_, 0);
+  if (glCheckFramebufferStatus(GL_DRAW_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    if (error) *error = "the sky occlusion's reduced image is not a complete framebuffer";
+    return false;
+  }
+  reduced_width_ = width;
+  reduced_height_ = height;
+  return check_gl("making the sky occlusion's reduced image", error);
+}
+
 bool OcclusionRenderer::draw(const PassInputs& in, const shadows::OcclusionFrame& frame, bool normal_up,
-                             std::string* error) {
+                             int reduction, bool no_sun, std::string* error) {
   GlStateGuard guard(kUnitsUsed);
   const bool bounce = (static_cast<int>(frame.grid.w) & 1) != 0;  // OcclusionFrame::grid.w: 1 bounce + 2 hybrid
-  if (!build_program(bounce, error) || !upload(frame, error)) return false;
+  const bool reduced = reduction > 1;
+  if (!build_program(bounce, reduced, error) || !upload(frame, error)) return false;
+  if (reduced && !upsample_program_) {
+    upsample_program_ = gl::build_program("fullscreen.vert", "sky_occlusion_upsample.frag", "", error);
+    if (!upsample_program_) return false;
+    upsample_pass_ = locate_pass_uniforms(upsample_program_);
+    u_upsample_reduced_ = glGetUniformLocation(upsample_program_, "u_reduced");
+    u_upsample_reduction_ = glGetUniformLocation(upsample_program_, "u_reduction");
+  }
+  const int rw = (in.viewport[2] + reduction - 1) / reduction, rh = (in.viewport[3] + reduction - 1) / reduction;
+  GLint host_fbo = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &host_fbo);
+  if (reduced && !ensure_reduced_target(rw, rh, error)) return false;
   guard.use_single_draw_buffer();
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
@@ -140,10 +171,30 @@ bool OcclusionRenderer::draw(const PassInputs& in, const shadows::OcclusionFrame
   glUniform3fv(u_sun_sh9_, 9, frame.sky.sun_sh9.data());
   glUniform4fv(u_transfer_, 108, frame.sky.transfer.data());
   glUniform1i(u_normal_up_, normal_up ? 1 : 0);
+  glUniform1i(u_no_sun_, no_sun ? 1 : 0);
+  glBindVertexArray(vao_);
+  if (reduced) {
+    // The factors at one pixel a block, into the reduced image; then spread over the host's pixels by depth.
+    glUniform1i(u_reduction_, reduction);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, reduced_fbo_);
+    const GLenum buffer = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &buffer);
+    glViewport(0, 0, rw, rh);
+    glDisablei(GL_BLEND, 0);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(host_fbo));  // its draw buffers: as the guard set
+    glViewport(in.viewport[0], in.viewport[1], in.viewport[2], in.viewport[3]);
+    glUseProgram(upsample_program_);
+    set_pass_uniforms(upsample_pass_, in, PassTableSizes{}, 1, NightTerms{});
+    glActiveTexture(GL_TEXTURE0 + kSpheresUnit);  // the spheres are not read any more: the unit takes the image
+    glBindTexture(GL_TEXTURE_2D, reduced_texture_);
+    glBindSampler(kSpheresUnit, nearest_sampler_);
+    glUniform1i(u_upsample_reduced_, static_cast<GLint>(kSpheresUnit));
+    glUniform1i(u_upsample_reduction_, reduction);
+  }
   glEnablei(GL_BLEND, 0);
   // colour * factor; the host's alpha kept.
   set_blend_of_buffer0(GL_DST_COLOR, GL_ZERO, GL_ZERO, GL_ONE, GL_FUNC_ADD, GL_FUNC_ADD);
-  glBindVertexArray(vao_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   return check_gl("drawing the objects' sky occlusion", error);
 }
@@ -151,8 +202,12 @@ bool OcclusionRenderer::draw(const PassInputs& in, const shadows::OcclusionFrame
 void OcclusionRenderer::destroy() {
   for (GLuint t : {tables_, spheres_, objects_, tiles_, tile_objects_})
     if (t) glDeleteTextures(1, &t);
-  for (GLuint p : programs_)
-    if (p) glDeleteProgram(p);
+  for (const auto& row : programs_)
+    for (GLuint p : row)
+      if (p) glDeleteProgram(p);
+  if (upsample_program_) glDeleteProgram(upsample_program_);
+  if (reduced_texture_) glDeleteTextures(1, &reduced_texture_);
+  if (reduced_fbo_) glDeleteFramebuffers(1, &reduced_fbo_);
   if (vao_) glDeleteVertexArrays(1, &vao_);
   for (GLuint s : {linear_sampler_, nearest_sampler_})
     if (s) glDeleteSamplers(1, &s);
@@ -161,7 +216,9 @@ void OcclusionRenderer::destroy() {
 
 void OcclusionRenderer::forget() {
   tables_ = spheres_ = objects_ = tiles_ = tile_objects_ = 0;
-  programs_[0] = programs_[1] = 0;
+  programs_[0][0] = programs_[0][1] = programs_[1][0] = programs_[1][1] = 0;
+  upsample_program_ = reduced_fbo_ = reduced_texture_ = 0;
+  reduced_width_ = reduced_height_ = 0;
   program_ = vao_ = linear_sampler_ = nearest_sampler_ = 0;
 }
 

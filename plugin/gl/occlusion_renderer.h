@@ -20,8 +20,11 @@ class OcclusionRenderer {
   // Uploads the frame (and the tables the first time). GL current.
   bool upload(const shadows::OcclusionFrame& frame, std::string* error);
   // ATMO_PASS_SKY_OCCLUSION over the bound framebuffer (uploads the frame first). normal_up: every surface
-  // faces up (terrain), else its normal comes from the depth.
-  bool draw(const PassInputs& in, const shadows::OcclusionFrame& frame, bool normal_up, std::string* error);
+  // faces up (terrain), else its normal comes from the depth. reduction 1: every pixel; 4 or 8: one
+  // evaluation a reduction x reduction block, spread over the block by depth.
+  // no_sun: the Sun's visibility left to the host (ATMO_PASS_SKY_OCCLUSION_NO_SUN).
+  bool draw(const PassInputs& in, const shadows::OcclusionFrame& frame, bool normal_up, int reduction, bool no_sun,
+            std::string* error);
   GLuint tables() const { return tables_; }
   GLuint spheres() const { return spheres_; }
   GLuint objects() const { return objects_; }
@@ -31,15 +34,20 @@ class OcclusionRenderer {
   void forget();   // the GL context is gone
 
  private:
-  bool build_program(bool bounce, std::string* error);
+  bool build_program(bool bounce, bool reduced, std::string* error);
+  bool ensure_reduced_target(int width, int height, std::string* error);
   GLuint tables_ = 0, spheres_ = 0, objects_ = 0, tiles_ = 0, tile_objects_ = 0;
-  // Two programs: with the bounce, and without it compiled out (ATMO_OCCLUSION_NO_BOUNCE).
-  GLuint programs_[2] = {0, 0};
+  // The programs: [reduced][bounce] (the bounce compiled out for ATMO_OCCLUSION_NO_BOUNCE), and the upsampling.
+  GLuint programs_[2][2] = {{0, 0}, {0, 0}};
+  GLuint upsample_program_ = 0, reduced_fbo_ = 0, reduced_texture_ = 0;
+  int reduced_width_ = 0, reduced_height_ = 0;
+  PassUniforms upsample_pass_;
+  GLint u_reduction_ = -1, u_upsample_reduced_ = -1, u_upsample_reduction_ = -1;
   GLuint program_ = 0, vao_ = 0, linear_sampler_ = 0, nearest_sampler_ = 0;
   PassUniforms pass_;
   GLint u_tables_ = -1, u_spheres_ = -1, u_objects_ = -1, u_tiles_ = -1, u_tile_objects_ = -1;
   GLint u_tile_from_position_ = -1, u_enu_from_world_ = -1, u_grid_ = -1, u_limits_ = -1, u_sun_ = -1,
-        u_sun_lux_ = -1, u_sky_sh9_ = -1, u_sun_sh9_ = -1, u_transfer_ = -1, u_normal_up_ = -1;
+        u_sun_lux_ = -1, u_sky_sh9_ = -1, u_sun_sh9_ = -1, u_transfer_ = -1, u_normal_up_ = -1, u_no_sun_ = -1;
 };
 
 }  // namespace atmo::gl

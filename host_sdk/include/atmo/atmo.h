@@ -477,7 +477,16 @@ typedef enum AtmoPass {
 
 /* AtmoPassInfo.flags */
 typedef enum AtmoPassFlags {
-  ATMO_PASS_SKY_OCCLUSION_NORMAL_UP = 1u  /* ATMO_PASS_SKY_OCCLUSION: every surface faces up (terrain) */
+  ATMO_PASS_SKY_OCCLUSION_NORMAL_UP = 1u,    /* ATMO_PASS_SKY_OCCLUSION: every surface faces up (terrain) */
+  /* ATMO_PASS_SKY_OCCLUSION at a fraction of the pixels: one evaluation a 4 x 4 (QUARTER) or 8 x 8 (EIGHTH)
+     block, spread over the block by depth (no bleeding across silhouettes; the Sun's shadow edges soften
+     over the block: with ATMO_PASS_SKY_OCCLUSION_NO_SUN they keep their shape). At most one of the two. Cost
+     and error: docs/SKY_OCCLUSION.md. */
+  ATMO_PASS_SKY_OCCLUSION_QUARTER_RES = 2u,
+  ATMO_PASS_SKY_OCCLUSION_EIGHTH_RES = 4u,
+  /* ATMO_PASS_SKY_OCCLUSION: the Sun's visibility left to the host (its shadow maps): only the sky's shadow
+     and the bounce, which are smooth, so a fraction of the pixels loses little */
+  ATMO_PASS_SKY_OCCLUSION_NO_SUN = 8u
 } AtmoPassFlags;
 
 typedef struct AtmoPassInfo {

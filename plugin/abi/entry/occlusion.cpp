@@ -118,7 +118,9 @@ AtmoResult sky_occlusion_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::
                               const gl::PassInputs& inputs, uint32_t flags) {
   const shadows::OcclusionFrame frame = view_occlusion_frame(ctx, view, scene);
   std::string error;
-  if (!ctx->occlusion_renderer.draw(inputs, frame, (flags & ATMO_PASS_SKY_OCCLUSION_NORMAL_UP) != 0, &error))
+  const int reduction = (flags & ATMO_PASS_SKY_OCCLUSION_EIGHTH_RES) ? 8 : (flags & ATMO_PASS_SKY_OCCLUSION_QUARTER_RES) ? 4 : 1;
+  if (!ctx->occlusion_renderer.draw(inputs, frame, (flags & ATMO_PASS_SKY_OCCLUSION_NORMAL_UP) != 0, reduction,
+                                    (flags & ATMO_PASS_SKY_OCCLUSION_NO_SUN) != 0, &error))
     return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_SKY_OCCLUSION)", error);
   return ATMO_SUCCESS;
 }

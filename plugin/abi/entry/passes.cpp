@@ -43,9 +43,18 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
                        return fail(ctx, ATMO_ERROR_INVALID_ARGUMENT, "render_pass",
                                    "AtmoPassInfo.pass = " + std::to_string(pass.pass) + " is not an AtmoPass");
                      }
-                     if (pass.flags & ~(pass.pass == ATMO_PASS_SKY_OCCLUSION ? uint32_t(ATMO_PASS_SKY_OCCLUSION_NORMAL_UP) : 0u)) {
+                     const uint32_t takes = pass.pass == ATMO_PASS_SKY_OCCLUSION
+                                                ? uint32_t(ATMO_PASS_SKY_OCCLUSION_NORMAL_UP |
+                                                           ATMO_PASS_SKY_OCCLUSION_QUARTER_RES |
+                                                           ATMO_PASS_SKY_OCCLUSION_EIGHTH_RES |
+                                                           ATMO_PASS_SKY_OCCLUSION_NO_SUN)
+                                                : 0u;
+                     const uint32_t both = ATMO_PASS_SKY_OCCLUSION_QUARTER_RES | ATMO_PASS_SKY_OCCLUSION_EIGHTH_RES;
+                     if ((pass.flags & ~takes) || (pass.flags & both) == both) {
                        return fail(ctx, ATMO_ERROR_INVALID_ARGUMENT, "render_pass",
-                                   "AtmoPassInfo.flags = " + std::to_string(pass.flags) + " holds bits this pass does not take");
+                                   "AtmoPassInfo.flags = " + std::to_string(pass.flags) +
+                                       ((pass.flags & ~takes) ? " holds bits this pass does not take"
+                                                              : " asks for two resolutions"));
                      }
                      if (AtmoResult r = require_frame_and_view(ctx, *view, "render_pass", true)) return r;
 
