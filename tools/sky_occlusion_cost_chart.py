@@ -40,12 +40,18 @@ def main():
             k = int(r["spheres_per_object"])
             out.write("%d,%.4f,include (%s)\n" % (k, float(r["ratio_to_pair"]), r["mode"]))
             plain.setdefault(k, []).append(float(r["plain_ms"]) / float(r["pair_ms"]))
+        for r in sorted(rows, key=lambda r: int(r["spheres_per_object"])):  # the plugin's pass over the ground
+            if "pass_quarter_ratio_to_pair" not in r or r["mode"] not in ("default", "no bounce"):
+                continue
+            k = int(r["spheres_per_object"])
+            out.write("%d,%.4f,ATMO_PASS_SKY_OCCLUSION 1/4 (%s)\n" % (k, float(r["pass_quarter_ratio_to_pair"]), r["mode"]))
+            out.write("%d,%.4f,ATMO_PASS_SKY_OCCLUSION 1/8 (%s)\n" % (k, float(r["pass_eighth_ratio_to_pair"]), r["mode"]))
         for k in sorted(plain):  # the host's pass without occlusion, the mean over the modes' frames
             out.write("%d,%.4f,host pass from the SH9 alone\n" % (k, sum(plain[k]) / len(plain[k])))
     if a.png:
         cmd = [a.chart, "--csv", a.chart_csv, "--out", a.png, "--x", "spheres", "--y", "ratio", "--group", "series",
                "--logx", "--logy", "--hline", "1", "--hline-label", "the pair (sky + aerial perspective)",
-               "--title", "Sky occlusion: the host's ground through the include, 16 objects, 1280x720, %s" % a.renderer,
+               "--title", "Sky occlusion: the ground through the include or the pass, 16 objects, 1280x720, %s" % a.renderer,
                "--xlabel", "spheres an object", "--ylabel", "cost / the pair's (wall time to glFinish)",
                "--legend", "top-left"]
         return subprocess.call(cmd)
