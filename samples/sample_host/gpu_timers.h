@@ -9,7 +9,7 @@ namespace atmo::sample {
 
 class GpuTimers {
  public:
-  static constexpr int kMaxSections = 8;
+  static constexpr int kMaxSections = 16;
   static constexpr int kRing = 4;
 
   // [gl-current]

@@ -37,6 +37,8 @@ enum Section {
   kSectionToneMap,
   kSectionCount
 };
+// Every section has its timer (GpuTimers keeps at most kMaxSections: the report reads them all).
+static_assert(kSectionCount <= GpuTimers::kMaxSections, "a GPU timer for every section");
 const char* section_name(int section);
 // The plugin pass a section draws; -1 for the host's own sections.
 int section_pass(int section);
