@@ -458,6 +458,22 @@ bool intersect(const Scene& scene, const glm::dvec3& origin_m, const glm::dvec3&
   return true;
 }
 
+// The sky's radiance summed over a jittered k1 x k2 grid mapped to the cosine-weighted hemisphere of frame
+// about origin (the directions blocked left out when `occluded`): pi * sum / count is the irradiance.
+dvec3 jittered_sky_sum(const Tracer& tracer, const Frame& frame, const dvec3& origin, const Grid& g, bool occluded,
+                       mc::Xoshiro256& rng) {
+  dvec3 sum(0.0);
+  for (long i = 0; i < g.k1; ++i)
+    for (long j = 0; j < g.k2; ++j) {
+      const double u1 = (static_cast<double>(i) + rng.uniform()) / static_cast<double>(g.k1);
+      const double u2 = (static_cast<double>(j) + rng.uniform()) / static_cast<double>(g.k2);
+      const dvec3 w = cosine_direction(frame, u1, u2);
+      if (occluded && tracer.blocked(origin, w)) continue;
+      sum += tracer.sky(w);
+    }
+  return sum;
+}
+
 double ray_offset_m(const Scene& scene, const glm::dvec3& p) { return Tracer(scene).offset_m(p); }
 
 Estimate sky_irradiance(const Scene& scene, glm::dvec3 p, glm::dvec3 n, bool occluded, long samples, uint64_t seed) {
@@ -465,15 +481,7 @@ Estimate sky_irradiance(const Scene& scene, glm::dvec3 p, glm::dvec3 n, bool occ
   const Tracer tracer(scene);
   const dvec3 origin = p + frame.n * tracer.offset_m(p);
   return run_batches(scene, samples, seed, [&](mc::Xoshiro256& rng, const Grid& g) {
-    dvec3 sum(0.0);
-    for (long i = 0; i < g.k1; ++i)
-      for (long j = 0; j < g.k2; ++j) {
-        const double u1 = (static_cast<double>(i) + rng.uniform()) / static_cast<double>(g.k1);
-        const double u2 = (static_cast<double>(j) + rng.uniform()) / static_cast<double>(g.k2);
-        const dvec3 w = cosine_direction(frame, u1, u2);
-        if (occluded && tracer.blocked(origin, w)) continue;
-        sum += tracer.sky(w);
-      }
+    const dvec3 sum = jittered_sky_sum(tracer, frame, origin, g, occluded, rng);
     return kPi * sum / static_cast<double>(g.count());  // E = pi * mean(L V) under pdf cos / pi
   });
 }
@@ -520,15 +528,7 @@ Estimate bounce_irradiance(const Scene& scene, glm::dvec3 p, glm::dvec3 n, Bounc
   auto hit_irradiance = [&](const dvec3& x, const dvec3& m, mc::Xoshiro256& rng) {
     const Frame hf(m);
     const dvec3 o = x + m * tracer.offset_m(x);
-    dvec3 sky(0.0);
-    for (long i = 0; i < inner.k1; ++i)
-      for (long j = 0; j < inner.k2; ++j) {
-        const double u1 = (static_cast<double>(i) + rng.uniform()) / static_cast<double>(inner.k1);
-        const double u2 = (static_cast<double>(j) + rng.uniform()) / static_cast<double>(inner.k2);
-        const dvec3 w = cosine_direction(hf, u1, u2);
-        if (traced && tracer.blocked(o, w)) continue;
-        sky += tracer.sky(w);
-      }
+    const dvec3 sky = jittered_sky_sum(tracer, hf, o, inner, traced, rng);
     dvec3 e = kPi * sky * inv_inner;
     if (sun) {
       double cos_sum = 0;
