@@ -10,6 +10,11 @@
 //   - the host pass shaded from get_lighting's SH9 alone (what a host pays without occlusion),
 //   - the host pass through the include: default flags (bounce, hybrid), ATMO_OCCLUSION_NO_BOUNCE,
 //     ATMO_OCCLUSION_OPTIMAL_LINEAR (each with its own set_occluders),
+//   - every pixel through the include compiled with ATMO_OCC_IMAGE: the plugin's image pass
+//     (ATMO_PASS_SKY_OCCLUSION_IMAGE, an eighth and a quarter across) + the host pass reading it, the two
+//     summed; its error against the include evaluated at every pixel: the sky's and the bounce's light
+//     (p50/p95 of |image - exact| / the open sky, green, over the pixels where the objects change it by 1 % or
+//     more) and the Sun's visibility (p50/p95 of |image - exact| over the pixels where either is below 0.99),
 // and the CPU time a frame of set_occluder_poses (every object moves) and get_sky_occlusion.
 // Sweeps: spheres an object {1 .. 128} at 16 objects; objects {1, 4, 16, 64} at 32 spheres.
 //
@@ -206,6 +211,22 @@ void main() {
 }
 )";
 
+// What the include returns, for its error (untimed): r the Sun's visibility, g the sky's and the bounce's green
+// light, b the open sky's green (SH9), lux.
+const char* kAnswerMain = R"(
+out vec4 colour;
+void main() {
+  vec3 p = receiver(pixel_ray());
+  vec3 n = vec3(0.0, 0.0, 1.0);
+  AtmoSkyOcclusion o = atmo_sky_occlusion(p, n);
+  AtmoOccSh y = atmo_occ_basis(n);
+  vec3 open = atmo_occ_sky_sh9[0] * y.a.x + atmo_occ_sky_sh9[1] * y.a.y + atmo_occ_sky_sh9[2] * y.a.z +
+              atmo_occ_sky_sh9[3] * y.a.w + atmo_occ_sky_sh9[4] * y.b.x + atmo_occ_sky_sh9[5] * y.b.y +
+              atmo_occ_sky_sh9[6] * y.b.z + atmo_occ_sky_sh9[7] * y.b.w + atmo_occ_sky_sh9[8] * y.c.x;
+  colour = vec4(o.sun_visibility, o.sky_lux.g + o.bounce_lux.g, max(open.g, 0.0), 1.0);
+}
+)";
+
 // The same ground from the sky's SH9 alone (no occlusion): what the host pays anyway.
 const char* kPlainMain = R"(
 uniform vec3 sun_world;
@@ -260,6 +281,12 @@ GLuint program_of(const std::string& fragment) {
   glAttachShader(p, vs);
   glAttachShader(p, fs);
   glLinkProgram(p);
+  glGetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[4096];
+    glGetProgramInfoLog(p, sizeof log, nullptr, log);
+    std::fprintf(stderr, "host program: %s\n", log);
+  }
   glDeleteShader(vs);
   glDeleteShader(fs);
   return p;
@@ -361,6 +388,10 @@ int main(int argc, char** argv) {
   // A host that never draws the bounce compiles it out (ATMO_OCC_NO_BOUNCE), as the "no bounce" mode does.
   const GLuint occluded_no_bounce =
       program_of(head + "#define ATMO_OCC_NO_BOUNCE\n" + include + kPixelRay + kOccludedMain);
+  // Every pixel through the include reading the plugin's image (ATMO_PASS_SKY_OCCLUSION_IMAGE).
+  const GLuint occluded_image = program_of(head + "#define ATMO_OCC_IMAGE\n" + include + kPixelRay + kOccludedMain);
+  const GLuint answer = program_of(head + include + kPixelRay + kAnswerMain);
+  const GLuint answer_image = program_of(head + "#define ATMO_OCC_IMAGE\n" + include + kPixelRay + kAnswerMain);
   const GLuint plain = program_of(head + kPixelRay + kPlainMain);
   const GLuint depth = program_of(head + kPixelRay + kDepthMain);
   const GLuint trivial = bench_gl::make_trivial_program();
@@ -373,7 +404,7 @@ int main(int argc, char** argv) {
   float sky_sh9[27];
   for (int k = 0; k < 9; ++k)
     for (int c = 0; c < 3; ++c) sky_sh9[3 * k + c] = float(lighting.sky_irradiance_sh9[k][c]);
-  for (GLuint p : {occluded, occluded_no_bounce, plain, depth}) {
+  for (GLuint p : {occluded, occluded_no_bounce, occluded_image, answer, answer_image, plain, depth}) {
     glUseProgram(p);
     glUniformMatrix4fv(glGetUniformLocation(p, "rel_from_clip"), 1, GL_FALSE, glm::value_ptr(rel_from_clip));
     glUniformMatrix4fv(glGetUniformLocation(p, "clip_from_rel"), 1, GL_FALSE, glm::value_ptr(clip_from_rel));
@@ -402,7 +433,12 @@ int main(int argc, char** argv) {
                       "added_ratio_to_pair,pair_query_ms,include_query_ms,longest_tile_list,poses_cpu_ms,"
                       "get_sky_occlusion_cpu_ms,cpu_ms,pass_ratio_to_pair,pass_quarter_ratio_to_pair,"
                       "pass_eighth_ratio_to_pair,quarter_error_p50,quarter_error_p95,eighth_error_p50,eighth_error_p95,"
-                      "no_sun_quarter_error_p50,no_sun_quarter_error_p95,no_sun_eighth_error_p50,no_sun_eighth_error_p95\n");
+                      "no_sun_quarter_error_p50,no_sun_quarter_error_p95,no_sun_eighth_error_p50,no_sun_eighth_error_p95,"
+                      "image_eighth_pass_ratio,image_eighth_host_ratio,image_eighth_ratio_to_pair,image_quarter_ratio_to_pair,"
+                      "image_eighth_sky_error_p50,image_eighth_sky_error_p95,image_quarter_sky_error_p50,image_quarter_sky_error_p95,"
+                      "image_eighth_sun_error_p50,image_eighth_sun_error_p95,image_quarter_sun_error_p50,"
+                      "image_quarter_sun_error_p95,image_sixteenth_ratio_to_pair,image_sixteenth_sky_error_p50,"
+                      "image_sixteenth_sky_error_p95,image_sixteenth_sun_error_p50,image_sixteenth_sun_error_p95\n");
   std::printf("== %dx%d, %s, %d timed frames a case (wall time to glFinish, median) ==\n", width, height,
               gl->renderer().c_str(), common.frames);
   // x_pair: the include pass / the pair, median of the frames' ratios (each frame's pair timed before and after
@@ -410,10 +446,13 @@ int main(int argc, char** argv) {
   // of the case / its fastest (above ~1.2 the machine was shared); tiles: the longest tile list; pass_x, pass4_x,
   // pass8_x: ATMO_PASS_SKY_OCCLUSION over the ground (NORMAL_UP) at every pixel, a quarter and an eighth across,
   // / the pair; err4, err8: the 95th percentile of |factor - every pixel's factor| (green) over the pixels whose
-  // every-pixel factor differs from 1 by 1 % or more.
-  std::printf("%-8s %-8s %-15s %8s %7s %8s %8s %10s %8s %8s %6s %9s %9s %7s %7s %7s %7s %7s\n", "objects", "spheres",
-              "mode", "pair_ms", "spread", "triv_ms", "plain_ms", "include_ms", "x_pair", "added_x", "tiles",
-              "poses_ms", "get_ms", "pass_x", "pass4_x", "pass8_x", "err4", "err8");
+  // every-pixel factor differs from 1 by 1 % or more; img8_x, img4_x: every pixel through the include with
+  // ATMO_OCC_IMAGE (the image pass an eighth / a quarter across + the host pass) / the pair; ierr8: p95 of its
+  // sky + bounce error / the open sky; isun8: p95 of its Sun's visibility's error.
+  std::printf("%-8s %-8s %-15s %8s %7s %8s %8s %10s %8s %8s %6s %9s %9s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s\n", "objects",
+              "spheres", "mode", "pair_ms", "spread", "triv_ms", "plain_ms", "include_ms", "x_pair", "added_x", "tiles",
+              "poses_ms", "get_ms", "pass_x", "pass4_x", "pass8_x", "err4", "err8", "img8_x", "img4_x", "img16_x", "ierr8",
+              "ierr16", "isun8");
   Timer timer;
   for (const Case& c : cases) {
     const std::string name = std::to_string(c.objects) + " objects x " + std::to_string(c.spheres) + " spheres";
@@ -428,6 +467,8 @@ int main(int argc, char** argv) {
       }
       std::vector<double> pair, pair_extremes, triv, plain_ms, inc, ratio, added, pair_q, inc_q, poses_cpu, get_cpu;
       std::vector<double> pass_ratio[3], error_p50[6], error_p95[6];
+      std::vector<double> image_ratio[3], image_pass_ratio, image_host_ratio, image_p50[3], image_p95[3];
+      std::vector<double> image_sun_p50[3], image_sun_p95[3];
       std::vector<double> moved(16 * a.poses.size());
       uint32_t longest = 0;
       for (int f = -1; f < common.frames; ++f) {  // frame -1 warms up (programs, tables)
@@ -477,6 +518,63 @@ int main(int argc, char** argv) {
         const double trivial_ms = timer([&] { full_screen(trivial); }, &unused);
         const double p_ms = timer([&] { full_screen(plain); }, &unused);
         const double include_ms = timer([&] { full_screen(shading); }, &iq);
+        // Every pixel through the include reading the plugin's image, an eighth (i = 0), a quarter (1) and a
+        // sixteenth (2) across:
+        // the image pass + the host pass, against the include at every pixel (once a frame, the default mode).
+        const bool image_error = f >= 0 && mode.flags == 0;
+        const size_t pixels = static_cast<size_t>(width) * height;
+        std::vector<float> exact_rgba(image_error ? pixels * 4 : 0), image_rgba(exact_rgba.size());
+        if (image_error) {
+          glUseProgram(answer);
+          const atmo::host_scene::SkyOcclusionBinding answer_binding(answer, occ, 0);
+          full_screen(answer);
+          glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, exact_rgba.data());
+        }
+        double image_ms[3] = {0.0, 0.0, 0.0}, image_pass_ms = 0.0, image_host_ms = 0.0;
+        for (int i = 0; i < 3; ++i) {
+          const uint32_t resolution[3] = {ATMO_PASS_SKY_OCCLUSION_EIGHTH_RES, ATMO_PASS_SKY_OCCLUSION_QUARTER_RES,
+                                          ATMO_PASS_SKY_OCCLUSION_SIXTEENTH_RES};
+          const uint32_t flags = ATMO_PASS_SKY_OCCLUSION_IMAGE | ATMO_PASS_SKY_OCCLUSION_NORMAL_UP | resolution[i];
+          const double pass_ms = timer([&] { view.render(ATMO_PASS_SKY_OCCLUSION, flags); }, &unused);
+          AtmoSkyOcclusion with_image = atmo::make<AtmoSkyOcclusion>(ATMO_TYPE_SKY_OCCLUSION);
+          if (plugin.api().get_sky_occlusion(view.handle(), &with_image) != ATMO_SUCCESS || !with_image.image[0]) {
+            std::fprintf(stderr, "get_sky_occlusion after the image pass: no image (%s)\n", context.last_error().c_str());
+            return 1;
+          }
+          target->bind();
+          glUseProgram(occluded_image);
+          const atmo::host_scene::SkyOcclusionBinding image_binding(occluded_image, with_image, 5);
+          const double host_ms = timer([&] { full_screen(occluded_image); }, &unused);
+          image_ms[i] = pass_ms + host_ms;
+          if (i == 0) {
+            image_pass_ms = pass_ms;
+            image_host_ms = host_ms;
+          }
+          if (!image_error) continue;
+          {
+            glUseProgram(answer_image);
+            const atmo::host_scene::SkyOcclusionBinding answer_binding(answer_image, with_image, 5);
+            full_screen(answer_image);
+          }
+          glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, image_rgba.data());
+          std::vector<double> sky_diff, sun_diff;
+          for (size_t k = 0; k < pixels * 4; k += 4) {
+            const double open = exact_rgba[k + 2];
+            if (open > 0.0 && std::abs(exact_rgba[k + 1] - open) >= 0.01 * open)
+              sky_diff.push_back(std::abs(double(image_rgba[k + 1]) - exact_rgba[k + 1]) / open);
+            if (exact_rgba[k] < 0.99f || image_rgba[k] < 0.99f)
+              sun_diff.push_back(std::abs(double(image_rgba[k]) - exact_rgba[k]));
+          }
+          for (auto* v : {&sky_diff, &sun_diff}) std::sort(v->begin(), v->end());
+          if (!sky_diff.empty()) {
+            image_p50[i].push_back(sky_diff[sky_diff.size() / 2]);
+            image_p95[i].push_back(sky_diff[sky_diff.size() * 95 / 100]);
+          }
+          if (!sun_diff.empty()) {
+            image_sun_p50[i].push_back(sun_diff[sun_diff.size() / 2]);
+            image_sun_p95[i].push_back(sun_diff[sun_diff.size() * 95 / 100]);
+          }
+        }
         // The plugin's pass over the ground (terrain: NORMAL_UP) at every pixel, a quarter and an eighth across,
         // on a colour of 1 (the framebuffer then holds the factor): its cost, and its factors against every pixel's.
         // The error again with ATMO_PASS_SKY_OCCLUSION_NO_SUN (the Sun's shadow left to the host's maps): r 3..5.
@@ -523,8 +621,11 @@ int main(int argc, char** argv) {
         poses_cpu.push_back(t1 - t0);
         get_cpu.push_back(t2 - t1);
         for (int r = 0; r < 3; ++r) pass_ratio[r].push_back(pass_ms[r] / pair_ms);  // with the Sun
+        for (int i = 0; i < 3; ++i) image_ratio[i].push_back(image_ms[i] / pair_ms);
+        image_pass_ratio.push_back(image_pass_ms / pair_ms);
+        image_host_ratio.push_back(image_host_ms / pair_ms);
       }
-      for (int i = 0; i < 5; ++i) {
+      for (int i = 0; i < 8; ++i) {
         glActiveTexture(GL_TEXTURE0 + i);
         glBindTexture(GL_TEXTURE_2D, 0);
       }
@@ -538,26 +639,32 @@ int main(int argc, char** argv) {
       auto med = [&](std::vector<double>& v) { return v.empty() ? 0.0 : median(v); };
       const double px[3] = {med(pass_ratio[0]), med(pass_ratio[1]), med(pass_ratio[2])};
       std::printf("%-8d %-8d %-15s %8.1f %7.2f %8.1f %8.1f %10.1f %8.2f %8.2f %6u %9.3f %9.3f %7.2f %7.2f %7.2f %7.4f "
-                  "%7.4f\n",
+                  "%7.4f %7.2f %7.2f %7.2f %7.4f %7.4f %7.4f\n",
                   c.objects, c.spheres, mode.name, p, spread, t, pl, in, x, ax, longest, pc, gc, px[0], px[1], px[2],
-                  med(error_p95[1]), med(error_p95[2]));
+                  med(error_p95[1]), med(error_p95[2]), med(image_ratio[0]), med(image_ratio[1]), med(image_ratio[2]),
+                  med(image_p95[0]), med(image_p95[2]), med(image_sun_p95[0]));
       std::fflush(stdout);
       if (csv) {
         std::stringstream sweeps(c.sweeps);
         for (std::string sweep; std::getline(sweeps, sweep, '+');)
           std::fprintf(csv,
                        "%s,%d,%d,%s,%.2f,%.3f,%.2f,%.2f,%.2f,%.4f,%.4f,%.2f,%.2f,%u,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.5f,"
-                       "%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f\n",
+                       "%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.4f,%.4f,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.5f,%.5f,%.5f,%.5f\n",
                        sweep.c_str(), c.objects, c.spheres, mode.name, p, spread, t, pl, in, x, ax, median(pair_q),
                        median(inc_q), longest, pc, gc, pc + gc, px[0], px[1], px[2], med(error_p50[1]),
                        med(error_p95[1]), med(error_p50[2]), med(error_p95[2]), med(error_p50[4]), med(error_p95[4]),
-                       med(error_p50[5]), med(error_p95[5]));
+                       med(error_p50[5]), med(error_p95[5]), med(image_pass_ratio), med(image_host_ratio),
+                       med(image_ratio[0]), med(image_ratio[1]), med(image_p50[0]), med(image_p95[0]), med(image_p50[1]),
+                       med(image_p95[1]), med(image_sun_p50[0]), med(image_sun_p95[0]), med(image_sun_p50[1]),
+                       med(image_sun_p95[1]), med(image_ratio[2]), med(image_p50[2]), med(image_p95[2]),
+                       med(image_sun_p50[2]), med(image_sun_p95[2]));
         std::fflush(csv);
       }
     }
   }
   if (csv) std::fclose(csv);
   glDeleteVertexArrays(1, &vao);
-  for (GLuint p : {occluded, occluded_no_bounce, plain, depth, trivial}) glDeleteProgram(p);
+  for (GLuint p : {occluded, occluded_no_bounce, occluded_image, answer, answer_image, plain, depth, trivial})
+    glDeleteProgram(p);
   return 0;
 }

@@ -9,12 +9,44 @@
 
 uniform int u_normal_up;  // 1: every surface faces up (terrain); 0: the normal from the depth's derivatives
 uniform int u_no_sun;     // 1: the Sun's visibility left to the host (its shadow map): only the sky and the bounce
-#ifdef ATMO_OCC_REDUCED
+#if defined(ATMO_OCC_REDUCED) || defined(ATMO_OCC_IMAGE_PREPARE)
 // At a fraction of the pixels (AtmoPassFlags): one texel for each u_reduction x u_reduction block, evaluated at
 // the block's centre pixel; sky_occlusion_upsample.frag spreads it by depth.
 uniform int u_reduction;
 #endif
 
+#ifdef ATMO_OCC_IMAGE_PREPARE
+// ATMO_PASS_SKY_OCCLUSION_IMAGE: the view's image for the include with ATMO_OCC_IMAGE, one texel a block:
+// the receiver's fit by normal (AtmoOccFit), evaluated at the block's middle pixel (the include's
+// atmo_occ_image_map says which), with the depth's normal (or up) for its tangent plane and its anchor.
+layout(location = 0) out vec4 out_sky;
+layout(location = 1) out vec4 out_bounce;
+layout(location = 2) out vec4 out_extra;
+
+void main() {
+  vec2 pixel = min(u_viewport.xy + floor(gl_FragCoord.xy) * float(u_reduction) + float(u_reduction / 2) + 0.5,
+                   u_viewport.xy + u_viewport.zw - 0.5);
+  vec2 ndc = (pixel - u_viewport.xy) / u_viewport.zw * 2.0 - 1.0;
+  float depth = texelFetch(u_depth, ivec2(pixel) - u_depth_origin, 0).r;
+  vec4 p = view_point_from_depth(u_view_from_clip, ndc, depth, u_depth_convention, u_log_far_m, u_log_coefficient);
+  out_sky = vec4(0.0);
+  out_bounce = vec4(0.0);
+  out_extra = vec4(1.0, 1.0, 1.0, -1.0);  // no surface
+  if (p.w < 0.0) return;
+  vec3 position = u_enu_from_view * p.xyz;
+  vec3 normal = vec3(0.0, 0.0, 1.0);
+  if (u_normal_up == 0) {
+    vec3 n = cross(dFdx(position), dFdy(position));
+    normal = dot(n, n) > 1.0e-12 ? normalize(n) : normal;
+    if (dot(normal, position) > 0.0) normal = -normal;  // towards the eye
+  }
+  AtmoOccFit fit;
+  atmo_occ_evaluate(position, normal, true, fit);
+  out_sky = fit.sky;
+  out_bounce = fit.bounce;
+  out_extra = fit.extra;
+}
+#else
 out vec4 out_factor;
 
 void main() {
@@ -66,3 +98,4 @@ void main() {
   if (u_output_encoding == 1) factor = pow(factor, vec3(1.0 / 2.2));
   out_factor = vec4(factor, 1.0);
 }
+#endif  // ATMO_OCC_IMAGE_PREPARE

@@ -147,6 +147,10 @@ struct AtmoView_T {
   // The light points of this view's last pass (the buffer is reused) and what was culled.
   std::vector<atmo::lights::LightPoint> light_points;
   atmo::lights::LightPointStats light_point_stats;
+  // The state_serial of this view's last ATMO_PASS_SKY_OCCLUSION_IMAGE pass (0: none) and its reduction:
+  // get_sky_occlusion hands the image out while it is this set_view's.
+  uint64_t occlusion_image_state_serial = 0;
+  int occlusion_image_reduction = 0;
 };
 
 namespace atmo::abi {

@@ -115,6 +115,7 @@ GlStateGuard::GlStateGuard(int units)
   depth_test_ = glIsEnabled(GL_DEPTH_TEST);
   blend0_ = glIsEnabledi(GL_BLEND, 0);
   blend1_ = glIsEnabledi(GL_BLEND, 1);
+  blend2_ = glIsEnabledi(GL_BLEND, 2);
   cull_ = glIsEnabled(GL_CULL_FACE);
   stencil_ = glIsEnabled(GL_STENCIL_TEST);
   scissor_ = glIsEnabled(GL_SCISSOR_TEST);
@@ -123,6 +124,7 @@ GlStateGuard::GlStateGuard(int units)
   glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask_);
   glGetBooleani_v(GL_COLOR_WRITEMASK, 0, color_mask_);
   glGetBooleani_v(GL_COLOR_WRITEMASK, 1, color_mask1_);
+  glGetBooleani_v(GL_COLOR_WRITEMASK, 2, color_mask2_);
   const GLenum blend_names[6] = {GL_BLEND_SRC_RGB, GL_BLEND_DST_RGB, GL_BLEND_SRC_ALPHA,
                                  GL_BLEND_DST_ALPHA, GL_BLEND_EQUATION_RGB, GL_BLEND_EQUATION_ALPHA};
   GLint* blend_values[6] = {&blend_src_rgb_, &blend_dst_rgb_, &blend_src_alpha_,
@@ -219,6 +221,7 @@ GlStateGuard::~GlStateGuard() {
   set_enabled(GL_DEPTH_TEST, depth_test_);
   if (blend0_) glEnablei(GL_BLEND, 0); else glDisablei(GL_BLEND, 0);
   if (blend1_) glEnablei(GL_BLEND, 1); else glDisablei(GL_BLEND, 1);
+  if (blend2_) glEnablei(GL_BLEND, 2); else glDisablei(GL_BLEND, 2);
   set_enabled(GL_CULL_FACE, cull_);
   set_enabled(GL_STENCIL_TEST, stencil_);
   set_enabled(GL_SCISSOR_TEST, scissor_);
@@ -239,6 +242,7 @@ GlStateGuard::~GlStateGuard() {
   glDepthMask(depth_mask_);
   glColorMaski(0, color_mask_[0], color_mask_[1], color_mask_[2], color_mask_[3]);
   glColorMaski(1, color_mask1_[0], color_mask1_[1], color_mask1_[2], color_mask1_[3]);
+  glColorMaski(2, color_mask2_[0], color_mask2_[1], color_mask2_[2], color_mask2_[3]);
   set_blend_of_buffer0(static_cast<GLenum>(blend_src_rgb_), static_cast<GLenum>(blend_dst_rgb_),
                        static_cast<GLenum>(blend_src_alpha_), static_cast<GLenum>(blend_dst_alpha_),
                        static_cast<GLenum>(blend_eq_rgb_), static_cast<GLenum>(blend_eq_alpha_));

@@ -46,12 +46,12 @@ class GlStateGuard {
   GLint textures_[kMaxUnits], textures_3d_[kMaxUnits], textures_2d_array_[kMaxUnits], samplers_[kMaxUnits];
   GLint pixel_stores_[kPixelStores];
   GLint viewport_[4];
-  GLboolean depth_test_, blend0_, blend1_, cull_, stencil_, scissor_, rasterizer_discard_;
+  GLboolean depth_test_, blend0_, blend1_, blend2_, cull_, stencil_, scissor_, rasterizer_discard_;
   GLboolean logic_op_, polygon_smooth_, alpha_to_coverage_, alpha_to_one_, sample_coverage_, sample_mask_;
   GLboolean alpha_test_, polygon_stipple_;  // compatibility only
   GLint clamp_fragment_color_, clamp_vertex_color_;  // compatibility only
   GLboolean clip_distance_[8];
-  GLboolean depth_mask_, color_mask_[4], color_mask1_[4];
+  GLboolean depth_mask_, color_mask_[4], color_mask1_[4], color_mask2_[4];  // draw buffers 0..2 (the most a pass writes)
   GLint blend_src_rgb_, blend_dst_rgb_, blend_src_alpha_, blend_dst_alpha_, blend_eq_rgb_, blend_eq_alpha_;
   GLint polygon_mode_[2];
   GLint draw_fbo_;

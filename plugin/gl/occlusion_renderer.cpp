@@ -66,11 +66,11 @@ constexpr int kUnitsUsed = static_cast<int>(kTileObjectsUnit) + 1;
 static_assert(kUnitsUsed <= GlStateGuard::kMaxUnits, "the guard saves every unit the pass binds");
 }  // namespace
 
-bool OcclusionRenderer::build_program(bool bounce, bool reduced, std::string* error) {
-  GLuint& program = programs_[reduced ? 1 : 0][bounce ? 1 : 0];
+bool OcclusionRenderer::build_program(bool bounce, Mode mode, std::string* error) {
+  GLuint& program = programs_[mode][bounce ? 1 : 0];
   if (!program) {
-    const std::string defines =
-        std::string(bounce ? "" : "#define ATMO_OCC_NO_BOUNCE\n") + (reduced ? "#define ATMO_OCC_REDUCED\n" : "");
+    const char* mode_define[3] = {"", "#define ATMO_OCC_REDUCED\n", "#define ATMO_OCC_IMAGE_PREPARE\n"};
+    const std::string defines = std::string(bounce ? "" : "#define ATMO_OCC_NO_BOUNCE\n") + mode_define[mode];
     program = gl::build_program("fullscreen.vert", "sky_occlusion.frag", defines, error);
     if (!program) return false;
   }
@@ -118,26 +118,15 @@ bool OcclusionRenderer::ensure_reduced_target(int width, int height, std::string
   return check_gl("making the sky occlusion's reduced image", error);
 }
 
-bool OcclusionRenderer::draw(const PassInputs& in, const shadows::OcclusionFrame& frame, bool normal_up,
-                             int reduction, bool no_sun, std::string* error) {
-  GlStateGuard guard(kUnitsUsed);
-  const bool bounce = (static_cast<int>(frame.grid.w) & 1) != 0;  // OcclusionFrame::grid.w: 1 bounce + 2 hybrid
-  const bool reduced = reduction > 1;
-  if (!build_program(bounce, reduced, error) || !upload(frame, error)) return false;
-  if (reduced && !upsample_program_) {
-    upsample_program_ = gl::build_program("fullscreen.vert", "sky_occlusion_upsample.frag", "", error);
-    if (!upsample_program_) return false;
-    upsample_pass_ = locate_pass_uniforms(upsample_program_);
-    u_upsample_reduced_ = glGetUniformLocation(upsample_program_, "u_reduced");
-    u_upsample_reduction_ = glGetUniformLocation(upsample_program_, "u_reduction");
-  }
-  const int rw = (in.viewport[2] + reduction - 1) / reduction, rh = (in.viewport[3] + reduction - 1) / reduction;
-  GLint host_fbo = 0;
-  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &host_fbo);
-  if (reduced && !ensure_reduced_target(rw, rh, error)) return false;
-  guard.use_single_draw_buffer();
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_CULL_FACE);
+namespace {
+bool frame_has_bounce(const shadows::OcclusionFrame& frame) {
+  return (static_cast<int>(frame.grid.w) & 1) != 0;  // OcclusionFrame::grid.w: 1 bounce + 2 hybrid
+}
+}  // namespace
+
+// The depth, the include's textures and uniforms, the pass's uniforms, for program_ (in use after).
+void OcclusionRenderer::bind_inputs(const PassInputs& in, const shadows::OcclusionFrame& frame, bool normal_up,
+                                    bool no_sun) {
   glActiveTexture(GL_TEXTURE0 + kDepthUnit);
   glBindTexture(GL_TEXTURE_2D, in.depth_texture);
   glBindSampler(kDepthUnit, nearest_sampler_);
@@ -173,6 +162,87 @@ bool OcclusionRenderer::draw(const PassInputs& in, const shadows::OcclusionFrame
   glUniform1i(u_normal_up_, normal_up ? 1 : 0);
   glUniform1i(u_no_sun_, no_sun ? 1 : 0);
   glBindVertexArray(vao_);
+}
+
+bool OcclusionRenderer::ensure_image(Image* image, int width, int height, std::string* error) {
+  if (image->fbo && image->width == width && image->height == height) return true;
+  if (!image->fbo) glGenFramebuffers(1, &image->fbo);
+  glActiveTexture(GL_TEXTURE0 + kTablesUnit);  // a unit the guard restores
+  for (GLuint& t : image->textures) texture_2d(&t, GL_RGBA32F, width, height, GL_RGBA, GL_FLOAT, nullptr, GL_LINEAR);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, image->fbo);  // (the draw binding only: the guard restores it)
+  for (int k = 0; k < 3; ++k)
+    glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(k), GL_TEXTURE_2D,
+                           image->textures[k], 0);
+  if (glCheckFramebufferStatus(GL_DRAW_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    if (error) *error = "the sky occlusion's image is not a complete framebuffer";
+    return false;
+  }
+  image->width = width;
+  image->height = height;
+  return check_gl("making the sky occlusion's image", error);
+}
+
+bool OcclusionRenderer::draw_image(const PassInputs& in, const shadows::OcclusionFrame& frame, uint64_t view_key,
+                                   bool normal_up, int reduction, std::string* error) {
+  GlStateGuard guard(kUnitsUsed);
+  for (uint64_t key : retired_) {
+    auto it = images_.find(key);
+    if (it == images_.end()) continue;
+    for (GLuint t : it->second.textures)
+      if (t) glDeleteTextures(1, &t);
+    if (it->second.fbo) glDeleteFramebuffers(1, &it->second.fbo);
+    images_.erase(it);
+  }
+  retired_.clear();
+  if (!build_program(frame_has_bounce(frame), kImage, error) || !upload(frame, error)) return false;
+  Image& image = images_[view_key];
+  const int w = (in.viewport[2] + reduction - 1) / reduction, h = (in.viewport[3] + reduction - 1) / reduction;
+  if (!ensure_image(&image, w, h, error)) return false;
+  // Texel (i, j) is evaluated at window pixel viewport + (i, j) * reduction + reduction / 2 (its centre +0.5).
+  image.map[0] = static_cast<float>(in.viewport[0] + reduction / 2) + 0.5f;
+  image.map[1] = static_cast<float>(in.viewport[1] + reduction / 2) + 0.5f;
+  image.map[2] = static_cast<float>(reduction);
+  image.map[3] = 0.0f;
+  bind_inputs(in, frame, normal_up, false);
+  glUniform1i(u_reduction_, reduction);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, image.fbo);
+  const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+  glDrawBuffers(3, buffers);
+  glViewport(0, 0, w, h);
+  for (GLuint k = 0; k < 3; ++k) {  // (buffers 0..2: the guard restores them)
+    glDisablei(GL_BLEND, k);
+    glColorMaski(k, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  }
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  return check_gl("drawing the sky occlusion's image", error);
+}
+
+const OcclusionRenderer::Image* OcclusionRenderer::image(uint64_t view_key) const {
+  const auto it = images_.find(view_key);
+  return it == images_.end() || !it->second.fbo ? nullptr : &it->second;
+}
+
+bool OcclusionRenderer::draw(const PassInputs& in, const shadows::OcclusionFrame& frame, bool normal_up,
+                             int reduction, bool no_sun, std::string* error) {
+  GlStateGuard guard(kUnitsUsed);
+  const bool reduced = reduction > 1;
+  if (!build_program(frame_has_bounce(frame), reduced ? kReduced : kEveryPixel, error) || !upload(frame, error))
+    return false;
+  if (reduced && !upsample_program_) {
+    upsample_program_ = gl::build_program("fullscreen.vert", "sky_occlusion_upsample.frag", "", error);
+    if (!upsample_program_) return false;
+    upsample_pass_ = locate_pass_uniforms(upsample_program_);
+    u_upsample_reduced_ = glGetUniformLocation(upsample_program_, "u_reduced");
+    u_upsample_reduction_ = glGetUniformLocation(upsample_program_, "u_reduction");
+  }
+  const int rw = (in.viewport[2] + reduction - 1) / reduction, rh = (in.viewport[3] + reduction - 1) / reduction;
+  GLint host_fbo = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &host_fbo);
+  if (reduced && !ensure_reduced_target(rw, rh, error)) return false;
+  guard.use_single_draw_buffer();
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  bind_inputs(in, frame, normal_up, no_sun);
   if (reduced) {
     // The factors at one pixel a block, into the reduced image; then spread over the host's pixels by depth.
     glUniform1i(u_reduction_, reduction);
@@ -208,6 +278,11 @@ void OcclusionRenderer::destroy() {
   if (upsample_program_) glDeleteProgram(upsample_program_);
   if (reduced_texture_) glDeleteTextures(1, &reduced_texture_);
   if (reduced_fbo_) glDeleteFramebuffers(1, &reduced_fbo_);
+  for (auto& [key, image] : images_) {
+    for (GLuint t : image.textures)
+      if (t) glDeleteTextures(1, &t);
+    if (image.fbo) glDeleteFramebuffers(1, &image.fbo);
+  }
   if (vao_) glDeleteVertexArrays(1, &vao_);
   for (GLuint s : {linear_sampler_, nearest_sampler_})
     if (s) glDeleteSamplers(1, &s);
@@ -216,7 +291,9 @@ void OcclusionRenderer::destroy() {
 
 void OcclusionRenderer::forget() {
   tables_ = spheres_ = objects_ = tiles_ = tile_objects_ = 0;
-  programs_[0][0] = programs_[0][1] = programs_[1][0] = programs_[1][1] = 0;
+  for (auto& row : programs_) row[0] = row[1] = 0;
+  images_.clear();
+  retired_.clear();
   upsample_program_ = reduced_fbo_ = reduced_texture_ = 0;
   reduced_width_ = reduced_height_ = 0;
   program_ = vao_ = linear_sampler_ = nearest_sampler_ = 0;

@@ -6,7 +6,9 @@
 // the first pass, so a host that shades with the include never pays for it.
 #pragma once
 
+#include <map>
 #include <string>
+#include <vector>
 
 #include <glad/gl.h>
 
@@ -25,6 +27,20 @@ class OcclusionRenderer {
   // no_sun: the Sun's visibility left to the host (ATMO_PASS_SKY_OCCLUSION_NO_SUN).
   bool draw(const PassInputs& in, const shadows::OcclusionFrame& frame, bool normal_up, int reduction, bool no_sun,
             std::string* error);
+  // ATMO_PASS_SKY_OCCLUSION_IMAGE: the view's image for the include with ATMO_OCC_IMAGE (one AtmoOccFit a
+  // reduction x reduction block, at the block's middle pixel), drawn into the plugin's own textures; the host's
+  // framebuffer is untouched.
+  struct Image {
+    GLuint fbo = 0;
+    GLuint textures[3] = {0, 0, 0};  // atmo_occ_image0..2
+    int width = 0, height = 0;
+    float map[4] = {0.0f, 0.0f, 0.0f, 0.0f};  // atmo_occ_image_map
+  };
+  bool draw_image(const PassInputs& in, const shadows::OcclusionFrame& frame, uint64_t view_key, bool normal_up,
+                  int reduction, std::string* error);
+  const Image* image(uint64_t view_key) const;
+  // The view is gone: its image is freed by the next draw_image (GL current then).
+  void retire_view(uint64_t view_key) { retired_.push_back(view_key); }
   GLuint tables() const { return tables_; }
   GLuint spheres() const { return spheres_; }
   GLuint objects() const { return objects_; }
@@ -34,11 +50,16 @@ class OcclusionRenderer {
   void forget();   // the GL context is gone
 
  private:
-  bool build_program(bool bounce, bool reduced, std::string* error);
+  enum Mode { kEveryPixel = 0, kReduced = 1, kImage = 2 };
+  bool build_program(bool bounce, Mode mode, std::string* error);
+  void bind_inputs(const PassInputs& in, const shadows::OcclusionFrame& frame, bool normal_up, bool no_sun);
+  bool ensure_image(Image* image, int width, int height, std::string* error);
   bool ensure_reduced_target(int width, int height, std::string* error);
   GLuint tables_ = 0, spheres_ = 0, objects_ = 0, tiles_ = 0, tile_objects_ = 0;
-  // The programs: [reduced][bounce] (the bounce compiled out for ATMO_OCCLUSION_NO_BOUNCE), and the upsampling.
-  GLuint programs_[2][2] = {{0, 0}, {0, 0}};
+  // The programs: [Mode][bounce] (the bounce compiled out for ATMO_OCCLUSION_NO_BOUNCE), and the upsampling.
+  GLuint programs_[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+  std::map<uint64_t, Image> images_;  // by view
+  std::vector<uint64_t> retired_;
   GLuint upsample_program_ = 0, reduced_fbo_ = 0, reduced_texture_ = 0;
   int reduced_width_ = 0, reduced_height_ = 0;
   PassUniforms upsample_pass_;

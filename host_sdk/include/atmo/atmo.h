@@ -478,15 +478,23 @@ typedef enum AtmoPass {
 /* AtmoPassInfo.flags */
 typedef enum AtmoPassFlags {
   ATMO_PASS_SKY_OCCLUSION_NORMAL_UP = 1u,    /* ATMO_PASS_SKY_OCCLUSION: every surface faces up (terrain) */
-  /* ATMO_PASS_SKY_OCCLUSION at a fraction of the pixels: one evaluation a 4 x 4 (QUARTER) or 8 x 8 (EIGHTH)
-     block, spread over the block by depth (no bleeding across silhouettes; the Sun's shadow edges soften
-     over the block: with ATMO_PASS_SKY_OCCLUSION_NO_SUN they keep their shape). At most one of the two. Cost
-     and error: docs/SKY_OCCLUSION.md. */
+  /* ATMO_PASS_SKY_OCCLUSION at a fraction of the pixels: one evaluation a 4 x 4 (QUARTER), 8 x 8 (EIGHTH)
+     or 16 x 16 (SIXTEENTH) block, spread over the block by depth (no bleeding across silhouettes; the Sun's
+     shadow edges soften over the block: with ATMO_PASS_SKY_OCCLUSION_NO_SUN they keep their shape). At most
+     one of the three. Cost and error: docs/SKY_OCCLUSION.md. */
   ATMO_PASS_SKY_OCCLUSION_QUARTER_RES = 2u,
   ATMO_PASS_SKY_OCCLUSION_EIGHTH_RES = 4u,
   /* ATMO_PASS_SKY_OCCLUSION: the Sun's visibility left to the host (its shadow maps): only the sky's shadow
      and the bounce, which are smooth, so a fraction of the pixels loses little */
-  ATMO_PASS_SKY_OCCLUSION_NO_SUN = 8u
+  ATMO_PASS_SKY_OCCLUSION_NO_SUN = 8u,
+  /* ATMO_PASS_SKY_OCCLUSION: instead of shading the host's colour, evaluates the objects' light once a block
+     (QUARTER_RES 4 x 4, SIXTEENTH_RES 16 x 16, else 8 x 8) at the host depth into the view's image, which atmo_sky_occlusion.glsl
+     compiled with ATMO_OCC_IMAGE reads (AtmoSkyOcclusion.image: call get_sky_occlusion after this pass);
+     the host's framebuffer is not touched. For a host that shades every pixel through the include at the
+     cost of a few texture reads: after its depth (a depth pre-pass or a G-buffer), before its shading.
+     Not with NO_SUN (the image holds the Sun's visibility; the host may ignore it). docs/SKY_OCCLUSION.md. */
+  ATMO_PASS_SKY_OCCLUSION_IMAGE = 16u,
+  ATMO_PASS_SKY_OCCLUSION_SIXTEENTH_RES = 32u
 } AtmoPassFlags;
 
 typedef struct AtmoPassInfo {
@@ -872,6 +880,13 @@ typedef struct AtmoSkyOcclusion {
   float sky_sh9[27];            /* atmo_occ_sky_sh9 (9 vec3) */
   float sun_sh9[27];            /* atmo_occ_sun_sh9 (9 vec3) */
   float transfer[432];          /* atmo_occ_transfer (108 vec4) */
+  /* Grown (a host compiled before has a smaller struct, left unfilled here): the image of this view's
+     ATMO_PASS_SKY_OCCLUSION with ATMO_PASS_SKY_OCCLUSION_IMAGE drawn after its last set_view (0 when none
+     was), for the include compiled with ATMO_OCC_IMAGE, which reads these, enu_from_world and sky_sh9 only.
+     Valid until that view's next image pass. */
+  uint32_t image[3];            /* GL_TEXTURE_2D RGBA32F, linear: atmo_occ_image0, 1, 2 */
+  uint32_t image_reduction;     /* pixels a texel spans across (4, 8 or 16) */
+  double image_map[4];          /* atmo_occ_image_map */
 } AtmoSkyOcclusion;
 
 /* ------------------------------------------------------------------------ */

@@ -76,6 +76,14 @@ struct AtmoSkyOcclusion {
   vec3 bounce_lux;       // the objects' diffuse light onto the point, lux
   float sky_visibility;  // the cosine-weighted fraction of a uniform sky left (ambient occlusion), [0, 1]
 };
+// A receiver's answer as a function of its normal (the image's texels): the luminance the objects take from the
+// sky and the bounce's luminance, each as 4 coefficients of y_0..y_3 (the normal's bands 0 and 1, ENU), made
+// exact at the normal it was evaluated with; extra: the bounce's r/Y and b/Y, the Sun's visibility, the distance.
+struct AtmoOccFit {
+  vec4 sky;
+  vec4 bounce;
+  vec4 extra;
+};
 #endif
 
 ATMO_OCC_FN AtmoOccSh atmo_occ_sh(vec4 a, vec4 b, vec4 c, vec4 d) {
@@ -152,6 +160,24 @@ ATMO_OCC_FN float atmo_occ_sun_cover(float theta, float cos_gamma, float sun_rad
   return clamp(0.5f + (x * sqrt(max(1.0f - x * x, 0.0f)) + asin(x)) / ATMO_OCC_PI, 0.0f, 1.0f);
 }
 
+const vec3 ATMO_OCC_LUMINANCE = vec3(0.2126f, 0.7152f, 0.0722f);  // Rec.709 Y
+
+// A receiver's light from its fit (AtmoOccFit) for a unit normal n (ENU) whose open sky irradiance is `open`:
+// the sky's light less what the objects take (as a fraction of the open sky's luminance, in the open sky's
+// colour), the bounce's luminance in its colour, the Sun's visibility.
+ATMO_OCC_FN AtmoSkyOcclusion atmo_occ_from_fit(AtmoOccFit f, vec3 n, vec3 open) {
+  vec4 y = vec4(0.2820948f, 0.4886025f * n.y, 0.4886025f * n.z, 0.4886025f * n.x);
+  float open_y = dot(open, ATMO_OCC_LUMINANCE);
+  float taken = max(dot(f.sky, y), 0.0f);
+  AtmoSkyOcclusion o;
+  o.sky_visibility = open_y > 0.0f ? clamp(1.0f - taken / open_y, 0.0f, 1.0f) : 1.0f;
+  o.sky_lux = open * o.sky_visibility;
+  vec3 tint = vec3(f.extra.x, (1.0f - 0.2126f * f.extra.x - 0.0722f * f.extra.y) / 0.7152f, f.extra.y);
+  o.bounce_lux = max(dot(f.bounce, y), 0.0f) * max(tint, vec3(0.0f));
+  o.sun_visibility = clamp(f.extra.z, 0.0f, 1.0f);
+  return o;
+}
+
 // g * g at order 4 (the triple product's non-zeros; generated: core/shadows sh_square_glsl).
 ATMO_OCC_FN AtmoOccSh atmo_occ_square(AtmoOccSh g) {
   AtmoOccSh r;
@@ -176,6 +202,66 @@ ATMO_OCC_FN AtmoOccSh atmo_occ_square(AtmoOccSh g) {
 
 #ifndef ATMO_TWIN
 #ifndef ATMO_OCC_NO_UNIFORMS
+#ifdef ATMO_OCC_IMAGE
+uniform sampler2D atmo_occ_image0;     // RGBA32F, linear: AtmoOccFit.sky a texel (one texel a block of pixels)
+uniform sampler2D atmo_occ_image1;     // RGBA32F, linear: AtmoOccFit.bounce
+uniform sampler2D atmo_occ_image2;     // RGBA32F, linear: AtmoOccFit.extra (w: the surface's distance m, -1: none)
+uniform vec4 atmo_occ_image_map;       // the window pixel of texel (0, 0)'s evaluation xy, pixels a texel spans, 0
+uniform mat3 atmo_occ_enu_from_world;  // the eye's ENU axes from the view's world axes
+uniform vec3 atmo_occ_sky_sh9[9];      // the sky's irradiance, SH9, lux
+
+// The image's texels around this fragment, blended bilinearly among those on the fragment's own surface (their
+// distance within 2 % of its own; none beyond 10 %) so no object's shadow bleeds across a silhouette; where none
+// is, the nearest in distance; where the image has no surface there, the open sky.
+AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 normal_world) {
+  vec3 n = normalize(atmo_occ_enu_from_world * normal_world);
+  AtmoOccSh y = atmo_occ_basis(n);
+  vec3 open = max(atmo_occ_sky_sh9[0] * y.a.x + atmo_occ_sky_sh9[1] * y.a.y + atmo_occ_sky_sh9[2] * y.a.z +
+                      atmo_occ_sky_sh9[3] * y.a.w + atmo_occ_sky_sh9[4] * y.b.x + atmo_occ_sky_sh9[5] * y.b.y +
+                      atmo_occ_sky_sh9[6] * y.b.z + atmo_occ_sky_sh9[7] * y.b.w + atmo_occ_sky_sh9[8] * y.c.x,
+                  vec3(0.0));
+  vec2 size = vec2(textureSize(atmo_occ_image2, 0));
+  vec2 at = (gl_FragCoord.xy - atmo_occ_image_map.xy) / atmo_occ_image_map.z;  // in texels from texel (0, 0)
+  vec2 base = floor(at);
+  vec2 f = at - base;
+  ivec2 last = ivec2(size) - 1;
+  ivec2 t00 = clamp(ivec2(base), ivec2(0), last);
+  ivec2 t11 = clamp(ivec2(base) + 1, ivec2(0), last);
+  // The four texels' surfaces' distances; each one's weight: bilinear, times whether it lies on this fragment's
+  // surface (within 2 % of its distance: yes; beyond 10 %: no, a silhouette).
+  vec4 e0 = texelFetch(atmo_occ_image2, t00, 0);
+  vec4 e1 = texelFetch(atmo_occ_image2, ivec2(t11.x, t00.y), 0);
+  vec4 e2 = texelFetch(atmo_occ_image2, ivec2(t00.x, t11.y), 0);
+  vec4 e3 = texelFetch(atmo_occ_image2, t11, 0);
+  vec4 dist = vec4(e0.w, e1.w, e2.w, e3.w);
+  float d = length(position_rel_eye_m);
+  vec4 off = abs(dist - d) / max(d, 1.0e-3);
+  vec4 has = step(0.0, dist);
+  vec4 w = vec4((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y) *
+           (1.0 - smoothstep(0.02, 0.1, off)) * has;
+  float total = w.x + w.y + w.z + w.w;
+  // None on it: the nearest in distance (of those with a surface).
+  vec4 far = mix(vec4(1.0e30), off, has);
+  float best = min(min(far.x, far.y), min(far.z, far.w));
+  vec4 nearest = vec4(equal(far, vec4(best)));
+  w = total > 1.0e-4 ? w / total : nearest / max(nearest.x + nearest.y + nearest.z + nearest.w, 1.0);
+  // The fit's other two parts by one filtered fetch each where the bilinear weights are the weights' centroid:
+  // the plain bilinear on one surface, one texel or one side of a silhouette at its edge (no branch: a CPU
+  // rasteriser runs both sides of one).
+  vec2 towards = vec2(w.y + w.w, w.z + w.w);
+  vec2 uv = (vec2(t00) + 0.5 + towards * vec2(t11 - t00)) / size;
+  AtmoOccFit fit;
+  fit.sky = texture(atmo_occ_image0, uv);
+  fit.bounce = texture(atmo_occ_image1, uv);
+  fit.extra = w.x * e0 + w.y * e1 + w.z * e2 + w.w * e3;
+  if (!(best < 1.0e29)) {  // no surface in the four texels (the sky's pixels): nothing occluded
+    fit.sky = vec4(0.0);
+    fit.bounce = vec4(0.0);
+    fit.extra = vec4(1.0, 1.0, 1.0, 0.0);
+  }
+  return atmo_occ_from_fit(fit, n, open);
+}
+#else
 uniform sampler2D atmo_occ_tables;         // RGBA32F, 256 x 3: log cap, form factor (by theta), (a, b) (by |f^|)
 uniform sampler2D atmo_occ_spheres;        // RGBA32F: a sphere a texel (centre ENU relative to the eye m, radius m),
                                            // then 3 texels a group (bound, stand-in, first sphere and count); 1024 a row
@@ -217,11 +303,12 @@ vec4 atmo_occ_grid_value() { return atmo_occ_grid; }
 vec4 atmo_occ_limits_value() { return atmo_occ_limits; }
 vec4 atmo_occ_sun_value() { return atmo_occ_sun; }
 mat3 atmo_occ_enu_from_world_value() { return atmo_occ_enu_from_world; }
+#endif  // ATMO_OCC_IMAGE
 #endif  // ATMO_OCC_NO_UNIFORMS
 #endif  // ATMO_TWIN
 #endif  // ATMO_OCC_HELPERS
 
-#ifndef ATMO_OCC_NO_UNIFORMS
+#if !defined(ATMO_OCC_NO_UNIFORMS) && !defined(ATMO_OCC_IMAGE)
 // exp*(f) by Ren's optimal linear form: exp(f_0 / sqrt(4 pi)) (a(|f^|) 1 + b(|f^|) f^).
 ATMO_OCC_FN AtmoOccSh atmo_occ_exp_linear(AtmoOccSh f) {
   AtmoOccSh hat = atmo_occ_sh(vec4(0.0f, f.a.y, f.a.z, f.a.w), f.b, f.c, f.d);
@@ -258,9 +345,10 @@ ATMO_OCC_FN vec3 atmo_occ_sh9_dot(int which, AtmoOccSh f) {
 
 // One sphere's part (its weight w in [0, 1]) in the running log-visibility, the Sun's visibility and the
 // bounce (prev: exp of the log before it, for the bounce's telescoping visibilities).
+// fit: also the bounce's luminance by normal (bands 0 and 1 of rho . mine, unclamped) into bounce_fit.
 ATMO_OCC_FN void atmo_occ_add_sphere(vec4 sphere_rel, vec3 n, AtmoOccSh rho, vec3 albedo, float w, bool sun_too,
-                                     bool bounce, INOUT(AtmoOccSh) log_v, INOUT(AtmoOccSh) prev, INOUT(float) sun_v,
-                                     INOUT(vec3) bounce_lux) {
+                                     bool bounce, bool fit, INOUT(AtmoOccSh) log_v, INOUT(AtmoOccSh) prev,
+                                     INOUT(float) sun_v, INOUT(vec3) bounce_lux, INOUT(vec4) bounce_fit) {
   vec4 s = atmo_occ_adjust(sphere_rel, n);
   if (!(s.w > 0.0f)) return;
   vec3 c = vec3(s.x, s.y, s.z);
@@ -291,6 +379,9 @@ ATMO_OCC_FN void atmo_occ_add_sphere(vec4 sphere_rel, vec3 n, AtmoOccSh rho, vec
     vec3 e = max(atmo_occ_sh9_dot(0, f), vec3(0.0f)) + max(atmo_occ_sh9_dot(1, f), vec3(0.0f));
     // Radiance albedo E / pi over the cosine-weighted fraction it fills (seen): irradiance albedo E seen.
     bounce_lux += albedo * e * seen;
+    if (fit)
+      bounce_fit += dot(albedo * e, ATMO_OCC_LUMINANCE) *
+                    vec4(mine.a.x, 2.0f / 3.0f * mine.a.y, 2.0f / 3.0f * mine.a.z, 2.0f / 3.0f * mine.a.w);
     prev = next;
   }
   log_v = atmo_occ_add(log_v, g, 1.0f);
@@ -332,8 +423,10 @@ ATMO_OCC_FN vec3 atmo_occ_transfer_row(int k, float rho_k, AtmoOccSh v) {
                           dot(v.c, atmo_occ_transfer_at(74 + at)) + dot(v.d, atmo_occ_transfer_at(75 + at)));
 }
 
-// The sky's light at a receiver (position relative to the eye, world axes; unit normal, world axes).
-ATMO_OCC_FN AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 normal_world) {
+// The sky's light at a receiver (position relative to the eye, world axes; unit normal, world axes); with
+// `fit`, also its light by normal into out_fit (the plugin's image: ATMO_PASS_SKY_OCCLUSION_IMAGE).
+ATMO_OCC_FN AtmoSkyOcclusion atmo_occ_evaluate(vec3 position_rel_eye_m, vec3 normal_world, bool fit,
+                                               INOUT(AtmoOccFit) out_fit) {
   mat3 enu = atmo_occ_enu_from_world_value();
   vec3 p = enu * position_rel_eye_m;
   vec3 n = normalize(enu * normal_world);
@@ -344,6 +437,9 @@ ATMO_OCC_FN AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 no
   out_.sun_visibility = 1.0f;
   out_.bounce_lux = vec3(0.0f);
   out_.sky_visibility = 1.0f;
+  out_fit.sky = vec4(0.0f);
+  out_fit.bounce = vec4(0.0f);
+  out_fit.extra = vec4(1.0f, 1.0f, 1.0f, length(position_rel_eye_m));
   uvec2 list = atmo_occ_tile_list(position_rel_eye_m);
   if (list.y == 0u) return out_;
   vec4 grid = atmo_occ_grid_value();
@@ -360,6 +456,7 @@ ATMO_OCC_FN AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 no
   AtmoOccSh prev = atmo_occ_sh(vec4(3.5449077f, 0.0f, 0.0f, 0.0f), vec4(0.0f), vec4(0.0f), vec4(0.0f));
   float sun_v = 1.0f;
   vec3 bounce_lux = vec3(0.0f);
+  vec4 bounce_fit = vec4(0.0f);
   bool any = false;
   for (uint j = 0u; j < list.y; ++j) {
     uint o = atmo_occ_tile_object(list.x + j);
@@ -389,7 +486,7 @@ ATMO_OCC_FN AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 no
     if (near_w < 1.0f) {
       vec4 proxy = atmo_occ_object(o, 1);
       atmo_occ_add_sphere(vec4(vec3(proxy.x, proxy.y, proxy.z) - p, proxy.w), n, rho, albedo, 1.0f - near_w, false,
-                          bounce, log_v, prev, sun_v, bounce_lux);
+                          bounce, fit, log_v, prev, sun_v, bounce_lux, bounce_fit);
       if (atmo_occ_sun_meets(to_bound, bound.w)) {
         for (uint k = 0u; k < group_count; ++k) {
           vec4 range = atmo_occ_sphere(first_group + 3u * k + 2u);
@@ -412,7 +509,7 @@ ATMO_OCC_FN AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 no
         if (group_w < 1.0f) {
           vec4 gp = atmo_occ_sphere(at + 1u);
           atmo_occ_add_sphere(vec4(vec3(gp.x, gp.y, gp.z) - p, gp.w), n, rho, albedo, near_w * (1.0f - group_w),
-                              false, bounce, log_v, prev, sun_v, bounce_lux);
+                              false, bounce, fit, log_v, prev, sun_v, bounce_lux, bounce_fit);
           if (atmo_occ_sun_meets(to_group, gb.w))
             atmo_occ_sun_spheres(first, count, p, n, near_w * (1.0f - group_w), sun_v);
         }
@@ -420,7 +517,7 @@ ATMO_OCC_FN AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 no
           for (uint i = 0u; i < count; ++i) {
             vec4 s = atmo_occ_sphere(first + i);
             atmo_occ_add_sphere(vec4(vec3(s.x, s.y, s.z) - p, s.w), n, rho, albedo, near_w * group_w, true, bounce,
-                                log_v, prev, sun_v, bounce_lux);
+                                fit, log_v, prev, sun_v, bounce_lux, bounce_fit);
           }
         }
       }
@@ -444,8 +541,33 @@ ATMO_OCC_FN AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 no
   float scale = hidden_linear > 1.0e-4f ? clamp(hidden / hidden_linear, 0.0f, 4.0f) : 1.0f;
   out_.bounce_lux = max(bounce_lux * scale, vec3(0.0f));
   out_.sky_visibility = clamp(atmo_occ_dot(rho, v), 0.0f, 1.0f);
+  if (fit) {
+    // Bands 0 and 1 (by normal) of what the objects take from the sky's luminance and of the bounce's,
+    // each shifted in band 0 to be exact at n (the normal evaluated: the image's block).
+    vec4 taken = vec4(dot(atmo_occ_sky_sh9_at(0), ATMO_OCC_LUMINANCE), dot(atmo_occ_sky_sh9_at(1), ATMO_OCC_LUMINANCE),
+                      dot(atmo_occ_sky_sh9_at(2), ATMO_OCC_LUMINANCE), dot(atmo_occ_sky_sh9_at(3), ATMO_OCC_LUMINANCE)) -
+                 vec4(dot(atmo_occ_transfer_row(0, 1.0f, v), ATMO_OCC_LUMINANCE),
+                      2.0f / 3.0f * dot(atmo_occ_transfer_row(1, 1.0f, v), ATMO_OCC_LUMINANCE),
+                      2.0f / 3.0f * dot(atmo_occ_transfer_row(2, 1.0f, v), ATMO_OCC_LUMINANCE),
+                      2.0f / 3.0f * dot(atmo_occ_transfer_row(3, 1.0f, v), ATMO_OCC_LUMINANCE));
+    float taken_here = dot(open - out_.sky_lux, ATMO_OCC_LUMINANCE);
+    taken.x += (taken_here - dot(taken, y.a)) / 0.2820948f;
+    vec4 b = bounce_fit * scale;
+    float bounce_here = dot(out_.bounce_lux, ATMO_OCC_LUMINANCE);
+    b.x += (bounce_here - dot(b, y.a)) / 0.2820948f;
+    out_fit.sky = taken;
+    out_fit.bounce = b;
+    float by = max(bounce_here, 1.0e-30f);
+    out_fit.extra = bounce_here > 0.0f ? vec4(out_.bounce_lux.x / by, out_.bounce_lux.z / by, out_.sun_visibility, out_fit.extra.w)
+                                       : vec4(1.0f, 1.0f, out_.sun_visibility, out_fit.extra.w);
+  }
   return out_;
 }
-#endif  // ATMO_OCC_NO_UNIFORMS
+
+ATMO_OCC_FN AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 normal_world) {
+  AtmoOccFit unused;
+  return atmo_occ_evaluate(position_rel_eye_m, normal_world, false, unused);
+}
+#endif  // !ATMO_OCC_NO_UNIFORMS && !ATMO_OCC_IMAGE
 
 #endif  // ATMO_SKY_OCCLUSION_GLSL

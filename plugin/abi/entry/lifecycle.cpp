@@ -205,6 +205,7 @@ void destroy_view(AtmoView view) {
   }
   try {
     ctx->cloud_renderer.retire_view(view->serial);  // its history is freed by the next clouds pass
+    ctx->occlusion_renderer.retire_view(view->serial);  // its image is freed by the next image pass
   } catch (...) {
     // Out of memory: the history stays until gl_shutdown frees every GL object.
   }

@@ -110,6 +110,12 @@ AtmoResult get_sky_occlusion(AtmoView view_handle, AtmoSkyOcclusion* out) {
         std::memcpy(o.sky_sh9, frame.sky.sky_sh9.data(), sizeof(o.sky_sh9));
         std::memcpy(o.sun_sh9, frame.sky.sun_sh9.data(), sizeof(o.sun_sh9));
         std::memcpy(o.transfer, frame.sky.transfer.data(), sizeof(o.transfer));
+        const gl::OcclusionRenderer::Image* image = ctx->occlusion_renderer.image(view->serial);
+        if (image && view->occlusion_image_state_serial == view->state_serial) {
+          for (int k = 0; k < 3; ++k) o.image[k] = image->textures[k];
+          o.image_reduction = static_cast<uint32_t>(view->occlusion_image_reduction);
+          for (int k = 0; k < 4; ++k) o.image_map[k] = image->map[k];
+        }
         return ATMO_SUCCESS;
       });
 }
@@ -118,7 +124,19 @@ AtmoResult sky_occlusion_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::
                               const gl::PassInputs& inputs, uint32_t flags) {
   const shadows::OcclusionFrame frame = view_occlusion_frame(ctx, view, scene);
   std::string error;
-  const int reduction = (flags & ATMO_PASS_SKY_OCCLUSION_EIGHTH_RES) ? 8 : (flags & ATMO_PASS_SKY_OCCLUSION_QUARTER_RES) ? 4 : 1;
+  const int reduction = (flags & ATMO_PASS_SKY_OCCLUSION_SIXTEENTH_RES) ? 16
+                        : (flags & ATMO_PASS_SKY_OCCLUSION_EIGHTH_RES)  ? 8
+                        : (flags & ATMO_PASS_SKY_OCCLUSION_QUARTER_RES) ? 4
+                                                                         : 1;
+  if (flags & ATMO_PASS_SKY_OCCLUSION_IMAGE) {
+    const int image_reduction = reduction > 1 ? reduction : 8;  // the image's default: 8 x 8
+    if (!ctx->occlusion_renderer.draw_image(inputs, frame, view->serial,
+                                            (flags & ATMO_PASS_SKY_OCCLUSION_NORMAL_UP) != 0, image_reduction, &error))
+      return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_SKY_OCCLUSION, IMAGE)", error);
+    view->occlusion_image_state_serial = view->state_serial;
+    view->occlusion_image_reduction = image_reduction;
+    return ATMO_SUCCESS;
+  }
   if (!ctx->occlusion_renderer.draw(inputs, frame, (flags & ATMO_PASS_SKY_OCCLUSION_NORMAL_UP) != 0, reduction,
                                     (flags & ATMO_PASS_SKY_OCCLUSION_NO_SUN) != 0, &error))
     return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_SKY_OCCLUSION)", error);

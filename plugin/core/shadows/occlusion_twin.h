@@ -22,6 +22,9 @@ struct AtmoSkyOcclusion {
   vec3 bounce_lux{0.0f};
   float sky_visibility = 1.0f;
 };
+struct AtmoOccFit {
+  vec4 sky{0.0f}, bounce{0.0f}, extra{0.0f};
+};
 
 #define ATMO_TWIN
 #define ATMO_OCC_FN inline
@@ -81,6 +84,24 @@ inline mat3 atmo_occ_enu_from_world_value() { return frame->enu_from_world; }
 inline AtmoSkyOcclusion evaluate(const OcclusionFrame& f, const glm::vec3& position_rel_eye_m, const glm::vec3& normal) {
   frame = &f;
   const AtmoSkyOcclusion r = atmo_sky_occlusion(position_rel_eye_m, normal);
+  frame = nullptr;
+  return r;
+}
+
+// The include's answer and its fit by normal (a texel of ATMO_PASS_SKY_OCCLUSION_IMAGE's image).
+inline AtmoSkyOcclusion evaluate_fit(const OcclusionFrame& f, const glm::vec3& position_rel_eye_m,
+                                     const glm::vec3& normal, AtmoOccFit* fit) {
+  frame = &f;
+  const AtmoSkyOcclusion r = atmo_occ_evaluate(position_rel_eye_m, normal, true, *fit);
+  frame = nullptr;
+  return r;
+}
+
+// What the include with ATMO_OCC_IMAGE makes of a texel's fit for a normal (ENU axes here), on the frame's sky.
+inline AtmoSkyOcclusion from_fit(const OcclusionFrame& f, const AtmoOccFit& fit, const glm::vec3& normal) {
+  frame = &f;
+  const glm::vec3 open = max(atmo_occ_sh9_dot(0, atmo_occ_basis(normal)), vec3(0.0f));
+  const AtmoSkyOcclusion r = atmo_occ_from_fit(fit, normal, open);
   frame = nullptr;
   return r;
 }

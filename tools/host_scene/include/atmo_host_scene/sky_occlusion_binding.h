@@ -1,7 +1,8 @@
 // sky_occlusion_binding.h — what a host does with an AtmoSkyOcclusion
 // (get_sky_occlusion) before drawing surfaces whose shader includes
 // atmo_sky_occlusion.glsl: its five textures on five texture units and its
-// uniforms, as the include's header says. Scoped: the units' earlier bindings
+// uniforms, as the include's header says (compiled with ATMO_OCC_IMAGE: the
+// image's three textures and its few uniforms). Scoped: the units' earlier bindings
 // and the active unit come back on destruction.
 #ifndef ATMO_HOST_SCENE_SKY_OCCLUSION_BINDING_H
 #define ATMO_HOST_SCENE_SKY_OCCLUSION_BINDING_H
