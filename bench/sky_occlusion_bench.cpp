@@ -383,7 +383,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "cannot read %s\n", include_path.c_str());
     return 1;
   }
-  const std::string head = "#version 330 core\n";
+  const std::string head = "#version 400 core\n";
   const GLuint occluded = program_of(head + include + kPixelRay + kOccludedMain);
   // A host that never draws the bounce compiles it out (ATMO_OCC_NO_BOUNCE), as the "no bounce" mode does.
   const GLuint occluded_no_bounce =

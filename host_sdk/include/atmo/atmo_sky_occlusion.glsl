@@ -229,11 +229,19 @@ AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 normal_world) 
   ivec2 t11 = clamp(ivec2(base) + 1, ivec2(0), last);
   // The four texels' surfaces' distances; each one's weight: bilinear, times whether it lies on this fragment's
   // surface (within 2 % of its distance: yes; beyond 10 %: no, a silhouette).
+#if __VERSION__ >= 400
+  // One gather (its order: (0, 1), (1, 1), (1, 0), (0, 0)); the clamped edge as texelFetch's.
+  vec4 gathered = textureGather(atmo_occ_image2, (vec2(t00) + 1.0) / size, 3);
+  vec4 dist = vec4(gathered.w, gathered.z, gathered.x, gathered.y);
+  if (t11.x == t00.x) dist = vec4(dist.x, dist.x, dist.z, dist.z);
+  if (t11.y == t00.y) dist = vec4(dist.x, dist.y, dist.x, dist.y);
+#else
   vec4 e0 = texelFetch(atmo_occ_image2, t00, 0);
   vec4 e1 = texelFetch(atmo_occ_image2, ivec2(t11.x, t00.y), 0);
   vec4 e2 = texelFetch(atmo_occ_image2, ivec2(t00.x, t11.y), 0);
   vec4 e3 = texelFetch(atmo_occ_image2, t11, 0);
   vec4 dist = vec4(e0.w, e1.w, e2.w, e3.w);
+#endif
   float d = length(position_rel_eye_m);
   vec4 off = abs(dist - d) / max(d, 1.0e-3);
   vec4 has = step(0.0, dist);
@@ -253,7 +261,11 @@ AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 normal_world) 
   AtmoOccFit fit;
   fit.sky = texture(atmo_occ_image0, uv);
   fit.bounce = texture(atmo_occ_image1, uv);
+#if __VERSION__ >= 400
+  fit.extra = texture(atmo_occ_image2, uv);
+#else
   fit.extra = w.x * e0 + w.y * e1 + w.z * e2 + w.w * e3;
+#endif
   if (!(best < 1.0e29)) {  // no surface in the four texels (the sky's pixels): nothing occluded
     fit.sky = vec4(0.0);
     fit.bounce = vec4(0.0);
