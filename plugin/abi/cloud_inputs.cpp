@@ -257,9 +257,10 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
   if (c.settings.layer && !c.settings.wait) prepare_draft(&c);
   c.version = out->version + 1;
   c.field_version = c.version;
+  c.frame = ctx.frame_number;
   *out = std::move(c);  // (a move stops the jobs of both sides: the field job starts after it)
   if (any_coarse)
-    out->field_job.job = std::make_unique<CloudFieldJob>([pieces = std::move(pieces)](const std::atomic<bool>& cancel) {
+    out->field_job.start(std::make_unique<CloudFieldJob>([pieces = std::move(pieces)](const std::atomic<bool>& cancel) {
       clouds::CloudField f;
       for (const FieldPiece& piece : pieces) {
         if (cancel.load(std::memory_order_relaxed)) return clouds::CloudField{};
@@ -273,7 +274,7 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
         append_field(std::move(g.field), &f);
       }
       return f;
-    });
+    }), ctx.frame_number);
   return {};
 }
 
@@ -331,7 +332,7 @@ namespace {
 
 // Takes a finished relight's grids (and its shadow map and mips); true when it did.
 bool take_relight(ContextClouds* c) {
-  if (!c->relight.job || !c->relight.job->done()) return false;
+  if (!c->relight.due(c->frame)) return false;
   CloudRelightJob& job = *c->relight.job;
   job.wait();
   c->depths = job.take();
@@ -362,10 +363,12 @@ void start_relight(ContextClouds* c, const glm::dvec3& light_dir, bool first) {
   if (first) r.sides = c->sides;
   r.with_mips = c->settings.layer;
   if (c->sole_instance.size() == c->field.prototypes.size()) r.neighbours = {c->sole_instance, &c->ray_index};
-  c->relight.job = std::make_unique<CloudRelightJob>(&c->field, first ? std::vector<clouds::LightDepths>{} : c->depths,
-                                                     std::move(r));
+  c->relight.start(std::make_unique<CloudRelightJob>(
+                       &c->field, first ? std::vector<clouds::LightDepths>{} : c->depths, std::move(r)),
+                   c->frame);
   if (c->settings.wait) {
     c->relight.job->wait();
+    c->relight.due_frame = c->frame;
     take_relight(c);
   }
 }
@@ -405,7 +408,7 @@ namespace {
 // Swaps in the field job's full-resolution field (the coarse one's draft is
 // still drawn) and starts its first full lighting; true when it did.
 bool take_field(ContextClouds* c) {
-  if (!c->field_job.job || !c->field_job.job->done()) return false;
+  if (!c->field_job.due(c->frame)) return false;
   c->field_job.job->wait();
   c->relight.reset();  // (none runs: the coarse field is never lit in full)
   c->field = c->field_job.job->take();
@@ -442,7 +445,7 @@ bool relight_clouds(ContextClouds* c, const glm::dvec3& light_dir) {
       if (!c->field_job.job) start_relight(c, light_dir, true);
     } else {  // the other draw modes draw from the full grids: wait for them
       start_relight(c, light_dir, true);
-      if (c->relight.job) c->relight.job->wait();
+      c->relight.due_frame = c->frame;  // now
       take_relight(c);
     }
     c->relight_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -489,7 +492,7 @@ bool update_clipmap(ContextClouds* c, const glm::dvec3& eye) {
     ++c->clipmap_version;
   };
   bool changed = false;
-  if (c->clipmap_job.job && (c->clipmap_job.job->done() || c->settings.wait || c->clipmap.levels.empty())) {
+  if (c->clipmap_job.job && (c->clipmap_job.due(c->frame) || c->settings.wait || c->clipmap.levels.empty())) {
     CloudClipmapJob& job = *c->clipmap_job.job;
     job.wait();
     install(job.take(), job.built_for(), job.elapsed_ms());
@@ -514,7 +517,7 @@ bool update_clipmap(ContextClouds* c, const glm::dvec3& eye) {
   r.geometry = c->clipmap_geometry;
   r.cell = cell;
   r.built_for = c->version;
-  c->clipmap_job.job = std::make_unique<CloudClipmapJob>(std::move(r));
+  c->clipmap_job.start(std::make_unique<CloudClipmapJob>(std::move(r)), c->frame);
   return changed;
 }
 
@@ -525,9 +528,15 @@ bool ContextClouds::settled() const {
 }
 
 void wait_for_cloud_jobs(ContextClouds* c) {
-  if (c->field_job.job) c->field_job.job->wait();
-  if (c->relight.job) c->relight.job->wait();
-  if (c->clipmap_job.job) c->clipmap_job.job->wait();
+  // Due now, whatever the frame: the next pass takes them.
+  const auto now = [](auto& slot) {
+    if (!slot.job) return;
+    slot.job->wait();
+    slot.due_frame = 0;
+  };
+  now(c->field_job);
+  now(c->relight);
+  now(c->clipmap_job);
 }
 
 glm::dvec3 eye_in_cloud_frame(const ContextClouds& c, const glm::dvec3& eye_ecef_m) {

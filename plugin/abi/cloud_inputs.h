@@ -86,6 +86,7 @@ struct ContextClouds {
   double mean_centre_height_m = 0.0;         // of the clouds' centres, above origin: where the light is taken
   double lowest_base_m = 0.0, highest_top_m = 0.0;  // of the grids' boxes, above origin (the sky passes' shadow)
   CloudSettings settings;
+  uint64_t frame = 0;                        // the host frame of the call (set_frame): when jobs are due
   // The Sun and Moon seen from the clouds' origin: the clouds are lit from
   // there, so the light (and what is relit when) is one per frame, whatever
   // the views and their order.
@@ -142,15 +143,15 @@ clouds::CloudLight cloud_light(AtmoContext_T* context, AtmoView_T* view, const c
 // Relights the clouds when the light moved beyond the threshold: the first
 // lighting at once (with a draft: the draft's, the field's on a worker once
 // the field job, if any, has landed: this call swaps its field in),
-// later ones on a worker (abi/cloud_relight.h) whose grids are swapped in by
-// the first call after it ends (at once with settings.wait). Returns true
-// when the grids changed.
+// later ones on a worker (abi/cloud_relight.h) whose grids are swapped in at
+// the frame it is due (at once with settings.wait). Returns true when the
+// grids changed.
 bool relight_clouds(ContextClouds* clouds, const glm::dvec3& light_direction_enu);
 
 // Brings the clipmap up to date for an eye (the clouds' frame): rebuilt when
 // the field or its light changed or the eye entered another cell. The first
 // build is on the calling thread; later ones on a worker (shown from the
-// first call after it ends) unless settings.wait. True when it changed.
+// frame it is due) unless settings.wait. True when it changed.
 bool update_clipmap(ContextClouds* clouds, const glm::dvec3& eye_in_clouds_m);
 
 // Blocks until no job of the clouds runs (their results are taken by the next

@@ -5,8 +5,9 @@
 // shadow map and the layer march's prototype mips; a clipmap job resamples
 // the field around the eye's new cell (core/clouds/cloud_clipmap); a field
 // job generates the streamed set-up's decks at full resolution. The host's
-// thread keeps drawing with what it has and swaps the new data in on the
-// first call after a job ends (abi/cloud_inputs), or waits for it
+// thread keeps drawing with what it has and swaps the new data in at the
+// host frame the job is due (CloudJobSlot::due: ATMO_DEFERRED_FRAMES after it
+// started, waiting for it if need be; abi/cloud_inputs), or at once
 // (ATMO_CLOUD_SETUP_WAIT).
 //
 // Threads: a job reads the field (const, never changed while it lives: the
@@ -20,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "atmo/atmo.h"
 #include "core/clouds/cloud_clipmap.h"
 #include "core/clouds/cloud_field.h"
 #include "core/clouds/cloud_lighting.h"
@@ -146,9 +148,22 @@ class CloudFieldJob {
 // field moves, so no job ever reads a field that moved or died; the owner's
 // destructor must call reset() first (members die in reverse order). A
 // cancelled job is simply asked for again by the next frame.
+//
+// A job takes effect at a host frame fixed when it starts (started_frame +
+// ATMO_DEFERRED_FRAMES: due()), never at "the first call after it ends",
+// so every channel of a multi-channel host switches on the same frame
+// whatever its machine's pace; the owner waits for a job that is due and
+// not done. A host frame number that went back makes a job due.
 template <class Job>
 struct CloudJobSlot {
   std::unique_ptr<Job> job;
+  uint64_t started_frame = 0, due_frame = 0;
+  void start(std::unique_ptr<Job> j, uint64_t frame) {
+    job = std::move(j);
+    started_frame = frame;
+    due_frame = frame + ATMO_DEFERRED_FRAMES;
+  }
+  bool due(uint64_t frame) const { return job && (frame >= due_frame || frame < started_frame); }
   CloudJobSlot() = default;
   CloudJobSlot(CloudJobSlot&& o) noexcept { o.job.reset(); }
   CloudJobSlot& operator=(CloudJobSlot&& o) noexcept {

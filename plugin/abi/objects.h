@@ -14,6 +14,7 @@
 #include "abi/fog_inputs.h"
 #include "abi/light_inputs.h"
 #include "abi/occluder_inputs.h"
+#include "abi/state_hash.h"
 #include "core/lights/light_clusters.h"
 #include "abi/host_services.h"
 #include "abi/table_builder.h"
@@ -63,6 +64,10 @@ struct AtmoContext_T {
   uint64_t tables_version = 0;            // bumps when the CPU tables change (0: none yet)
   uint64_t uploaded_tables_version = 0;   // what the GL texture holds (0: nothing)
   atmo::abi::TableKey tables_wanted;      // the key asked for last (the current air at the last view's sphere)
+  // The key the worker was asked for last, the host frame it was asked at and the frame the new tables take
+  // effect (asked + ATMO_DEFERRED_FRAMES: every channel switches on the same frame, however fast it builds).
+  atmo::abi::TableKey tables_requested;
+  uint64_t tables_requested_frame = 0, tables_due_frame = 0;
   atmo::abi::TableWorker table_worker;  // joined by destroy_context (and its destructor)
 
   // The clouds (set_clouds) and their GL objects (built by the first cloud pass with clouds).
@@ -83,6 +88,8 @@ struct AtmoContext_T {
   // (get_sky_occlusion).
   atmo::abi::ContextOccluders occluders;
   atmo::gl::OcclusionRenderer occlusion_renderer;
+
+  atmo::abi::StateHashCache state_hash_cache;  // get_state_hash's content hashes
 
   atmo::gl::Renderer renderer;
   // The night sky's point pass: its programs are built by the first night

@@ -25,8 +25,9 @@ void install(AtmoContext_T* c, AtmosphereTables&& tables) {
   ++c->tables_version;
 }
 
-// Brings the context's tables towards `wanted`, never waiting after the first build.
-void update_tables(AtmoContext_T* c, const TableKey& wanted) {
+// Brings the context's tables towards `wanted`: the first build here; later ones on the worker, installed at
+// the host frame they are due (ATMO_DEFERRED_FRAMES after they were asked for), or now when `now`.
+void update_tables(AtmoContext_T* c, const TableKey& wanted, bool now = false) {
   c->tables_wanted = wanted;
   flush_table_log(c);
   if (c->tables_version == 0) {
@@ -38,21 +39,40 @@ void update_tables(AtmoContext_T* c, const TableKey& wanted) {
     install(c, std::move(tables));
     return;
   }
-  AtmosphereTables done;
-  if (c->table_worker.take_finished(&done) && wanted != c->tables_key && done.key != c->tables_key) {
-    // Tables for an air asked for since the ones in use: newer, even when the air changed again meanwhile.
-    char ms[32];
-    std::snprintf(ms, sizeof(ms), "%.0f", done.build_ms);
-    c->services.log(ATMO_LOG_INFO, "atmo: atmosphere tables (" + describe(done.key) + ") in use from this call, built in " +
-                                       ms + " ms on the worker thread" +
-                                       (done.key == wanted ? "" : "; the newest air is built next"));
-    install(c, std::move(done));
-  }
   if (wanted == c->tables_key) {
     c->table_worker.cancel_all();  // back to the air in use: drop what was asked for since
-  } else {
-    c->table_worker.request(wanted);
+    c->tables_requested = TableKey{};
+    return;
   }
+  if (wanted != c->tables_requested) {
+    c->table_worker.request(wanted);
+    c->tables_requested = wanted;
+    c->tables_requested_frame = c->frame_number;
+    c->tables_due_frame = c->frame_number + ATMO_DEFERRED_FRAMES;
+  }
+  // Not before its frame (a fast worker must not make this channel switch before a slow one), and at its frame
+  // whatever the worker's pace: it waits for the build (a host frame number that went back counts as due).
+  if (!now && c->frame_number < c->tables_due_frame && c->frame_number >= c->tables_requested_frame) return;
+  c->table_worker.wait_idle();
+  AtmosphereTables done;
+  if (c->table_worker.take_finished(&done) && done.key == wanted) {
+    char ms[32];
+    std::snprintf(ms, sizeof(ms), "%.0f", done.build_ms);
+    c->services.log(ATMO_LOG_INFO, "atmo: atmosphere tables (" + describe(done.key) + ") in use from host frame " +
+                                       std::to_string(c->frame_number) + " (asked for at frame " +
+                                       std::to_string(c->tables_requested_frame) + "), built in " + ms +
+                                       " ms on the worker thread");
+    install(c, std::move(done));
+    c->tables_requested = TableKey{};
+    return;
+  }
+  // The worker could not build them (out of memory): here, now, so every channel still switches at this frame.
+  AtmosphereTables tables;
+  build_tables(
+      wanted, nullptr, [c](TableLogLine line) { c->services.log(line.severity, line.text); }, nullptr, &tables,
+      "on the calling thread: the worker's build failed");
+  install(c, std::move(tables));
+  c->tables_requested = TableKey{};
 }
 
 }  // namespace
@@ -96,7 +116,7 @@ void wait_for_tables(AtmoContext_T* c, AtmoView_T* view) {
   if (view && view->have_state && c->have_frame) prepare_scene(c, *view);
   c->table_worker.wait_idle();
   if (c->tables_version != 0) {
-    update_tables(c, c->tables_wanted);
+    update_tables(c, c->tables_wanted, true);
   } else {
     flush_table_log(c);
   }

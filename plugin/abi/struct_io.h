@@ -41,6 +41,7 @@ ATMO_V1_SIZE(AtmoOccluderObject, 168);
 ATMO_V1_SIZE(AtmoOccludersState, 64);
 ATMO_V1_SIZE(AtmoOccluderPoses, 32);
 ATMO_V1_SIZE(AtmoSkyOcclusion, 2312);
+ATMO_V1_SIZE(AtmoStateHash, 96);
 #undef ATMO_V1_SIZE
 
 struct ReadError {

@@ -123,6 +123,14 @@ void CloudRenderer::destroy() {
 
 void CloudRenderer::forget() { *this = CloudRenderer{}; }
 
+void CloudRenderer::hash_state(core::StateHasher* h) const {
+  h->add(static_cast<uint64_t>(impostor_of_.size()));
+  for (const Impostor& im : impostor_of_) {
+    h->add(im.baked);
+    if (im.baked) h->add(im.baked_eye_m);
+  }
+}
+
 bool CloudRenderer::upload_atlas(const CloudFrameInputs& frame, std::string* error) {
   const std::vector<clouds::CloudVolume>& protos = frame.field->prototypes;
   GLint max3d = 256;

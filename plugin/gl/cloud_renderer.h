@@ -21,6 +21,7 @@
 #include "core/clouds/cloud_shadow.h"
 #include "core/clouds/cloud_twin.h"
 #include "core/clouds/impostor_policy.h"
+#include "core/scene/state_hash.h"
 #include "gl/cloud_layer_renderer.h"
 #include "gl/cloud_octave_uniforms.h"
 #include "gl/cloud_temporal.h"
@@ -87,6 +88,8 @@ class CloudRenderer {
   // The view is gone: its cloud history is freed on the next draw. [no-gl]
   void retire_view(uint64_t view_key) { temporal_.retire(view_key); }
   const CloudDrawStats& last_stats() const { return stats_; }
+  // What the impostors hold (which are made, from which eye), for the state hash.
+  void hash_state(core::StateHasher* h) const;
 
  private:
   // The uniforms of cloud_instance.glsl, in each program that includes it.

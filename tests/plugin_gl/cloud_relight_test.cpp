@@ -55,7 +55,9 @@ void expect_lit_for(const atmo::abi::ContextClouds& c, const glm::dvec3& dir) {
   }
 }
 
-TEST(CloudRelight, FirstNowThenOnAWorkerWithoutStallingTheCaller) {
+// A worker's relight lands at the host frame it is due (ATMO_DEFERRED_FRAMES after it started), not when it
+// ends: every channel switches on the same frame.
+TEST(CloudRelight, FirstNowThenOnAWorkerAtItsFrameWithoutStallingTheCaller) {
   atmo::abi::ContextClouds c = make_clouds();
   ASSERT_GT(c.field.prototypes.size(), 0u);
   const glm::dvec3 a = sun(30.0, 120.0), b = sun(36.0, 128.0);
@@ -74,7 +76,15 @@ TEST(CloudRelight, FirstNowThenOnAWorkerWithoutStallingTheCaller) {
   c.relight.job->wait();
   std::printf("relight of %zu prototypes on the worker: %.1f ms\n", c.field.prototypes.size(),
               c.relight.job->elapsed_ms());
-  EXPECT_TRUE(atmo::abi::relight_clouds(&c, b));  // swapped in
+  const uint64_t started = c.frame;
+  for (uint64_t f = started; f < started + ATMO_DEFERRED_FRAMES; ++f) {
+    c.frame = f;
+    EXPECT_FALSE(atmo::abi::relight_clouds(&c, b)) << "done, but not due at frame " << f;
+    EXPECT_TRUE(c.relighting());
+    expect_lit_for(c, a);
+  }
+  c.frame = started + ATMO_DEFERRED_FRAMES;
+  EXPECT_TRUE(atmo::abi::relight_clouds(&c, b));  // swapped in at its frame
   EXPECT_FALSE(c.relighting());
   EXPECT_EQ(c.version, v + 1);
   EXPECT_EQ(c.lit_direction_enu, b);

@@ -185,6 +185,14 @@ struct Host {
     EXPECT_EQ(api.render_pass(view, &pass), ATMO_SUCCESS) << api.last_error(ctx);
     return target.read_color();
   }
+  // The next host frame (the same time): deferred work is due by host_frame_number.
+  void next_frame() {
+    auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+    frame.utc_posix_s = 1718989800.0;
+    frame.host_frame_number = ++frame_number;
+    EXPECT_EQ(api.set_frame(ctx, &frame), ATMO_SUCCESS);
+  }
+  uint64_t frame_number = 0;
   AtmoContext_T& inside() { return *ctx; }
   atmo::abi::TableWorker& worker() { return ctx->table_worker; }
 };
@@ -229,7 +237,9 @@ TEST(TableWorker, FirstUseBuildsOnTheCallingThreadWithProgressInTheLog) {
 }
 
 // (a) and (d)
-TEST(TableWorker, FramesKeepTheOldTablesWhileTheWorkerIsHeldThenTheNextCallSwaps) {
+// New tables take effect ATMO_DEFERRED_FRAMES host frames after they were asked for: not before, even when
+// the worker is done early (a fast channel must not switch before a slow one), and not later.
+TEST(TableWorker, FramesKeepTheOldTablesUntilTheirFrameThenSwap) {
   std::string error;
   auto gl = HeadlessGl::create(HeadlessGl::Profile::Core, &error);
   ASSERT_TRUE(gl) << error;
@@ -248,6 +258,7 @@ TEST(TableWorker, FramesKeepTheOldTablesWhileTheWorkerIsHeldThenTheNextCallSwaps
 
   // The worker is held: every call returns, drawing and lighting with the old air.
   for (int frame = 0; frame < 3; ++frame) {
+    host.next_frame();
     const Image image = host.render(*target);
     EXPECT_TRUE(same_image(image, clear_image)) << "frame " << frame;
     EXPECT_TRUE(same_light(host.lighting(), clear_light)) << "frame " << frame;
@@ -259,8 +270,15 @@ TEST(TableWorker, FramesKeepTheOldTablesWhileTheWorkerIsHeldThenTheNextCallSwaps
   }
 
   gate.release();
-  host.worker().wait_idle();  // the tables are built; nothing is swapped until the host calls
+  host.worker().wait_idle();  // the tables are built; nothing is swapped before their frame
   EXPECT_EQ(host.inside().tables_version, 1u);
+  while (host.frame_number + 1 < ATMO_DEFERRED_FRAMES) {
+    host.next_frame();
+    EXPECT_TRUE(same_image(host.render(*target), clear_image)) << "frame " << host.frame_number;
+    EXPECT_EQ(host.inside().tables_version, 1u);
+  }
+  host.next_frame();  // asked for at frame 0: in use from frame ATMO_DEFERRED_FRAMES
+  EXPECT_EQ(host.frame_number, uint64_t(ATMO_DEFERRED_FRAMES));
   const Image hazy_image = host.render(*target);
   EXPECT_EQ(host.inside().tables_version, 2u);
   EXPECT_EQ(host.inside().uploaded_tables_version, 2u);
@@ -283,12 +301,44 @@ TEST(TableWorker, FramesKeepTheOldTablesWhileTheWorkerIsHeldThenTheNextCallSwaps
   EXPECT_EQ(host.log.count("atmo: multiple scattering 64x32 ... done in", ATMO_LOG_INFO), 2);
   EXPECT_EQ(host.log.count("atmo: multiple scattering 64x32: 75 %", ATMO_LOG_DEBUG), 2);
   EXPECT_EQ(host.log.count("atmo: atmosphere tables (" + atmo::abi::describe(host.inside().tables_key) +
-                               ") in use from this call, built in ",
+                               ") in use from host frame " + std::to_string(ATMO_DEFERRED_FRAMES) +
+                               " (asked for at frame 0), built in ",
                            ATMO_LOG_INFO),
             1)
       << host.log.dump();
   EXPECT_TRUE(host.log.all_on(std::this_thread::get_id()));
   std::printf("%s", host.log.dump().c_str());
+}
+
+// At their frame the new tables are waited for: a slow machine (here a worker held until 200 ms after the frame
+// began) still switches on the same frame as the others.
+TEST(TableWorker, TheDueFrameWaitsForASlowWorker) {
+  std::string error;
+  auto gl = HeadlessGl::create(HeadlessGl::Profile::Core, &error);
+  ASSERT_TRUE(gl) << error;
+  auto target = OffscreenTarget::create(kWidth, kHeight, &error);
+  ASSERT_TRUE(target) << error;
+  Host host(gl.get());
+  const Image clear_image = host.render(*target);
+  Gate gate;
+  host.worker().test_before_build = gate.hook();
+  host.set_air(5000.0);
+  gate.wait_entered(1);
+  while (host.frame_number + 1 < ATMO_DEFERRED_FRAMES) {
+    host.next_frame();
+    EXPECT_TRUE(same_image(host.render(*target), clear_image));
+  }
+  std::thread slow([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    gate.release();
+  });
+  host.next_frame();
+  const Image due = host.render(*target);
+  slow.join();
+  EXPECT_EQ(host.inside().tables_key.visibility_m, 5000.0);
+  EXPECT_EQ(host.inside().tables_version, 2u);
+  Host fresh(gl.get(), 5000.0);
+  EXPECT_TRUE(same_image(fresh.render(*target), due)) << "the due frame draws the new air";
 }
 
 // (b)

@@ -135,6 +135,7 @@ typedef enum AtmoStructType {
   ATMO_TYPE_OCCLUDERS_STATE = 0x41540013,
   ATMO_TYPE_OCCLUDER_POSES = 0x41540014,
   ATMO_TYPE_SKY_OCCLUSION = 0x41540015,
+  ATMO_TYPE_STATE_HASH = 0x41540016,
   ATMO_TYPE_MAX_ENUM = 0x7fffffff
 } AtmoStructType;
 
@@ -890,6 +891,38 @@ typedef struct AtmoSkyOcclusion {
 } AtmoSkyOcclusion;
 
 /* ------------------------------------------------------------------------ */
+/* Several channels: the state hash (docs/MULTI_CHANNEL.md)                  */
+/* ------------------------------------------------------------------------ */
+
+/* What a frame shows is a function of the context's inputs (every set_* call), the frame state
+   (set_frame: time, host_frame_number) and the view's state, never of the wall clock, of thread timing or
+   of the order in which views are drawn: work done off the host's thread (new atmosphere tables, the
+   clouds' lighting) takes effect at a frame fixed when it was asked for, host_frame_number +
+   ATMO_DEFERRED_FRAMES, on every channel alike (the frame that reaches it first waits for the work). */
+#define ATMO_DEFERRED_FRAMES 8u
+
+/* The parts of AtmoStateHash.parts (which one differs tells what two channels disagree on). */
+typedef enum AtmoStateHashPart {
+  ATMO_STATE_HASH_FRAME = 0,     /* set_frame: time, UT1 - UTC, host_frame_number */
+  ATMO_STATE_HASH_AIR = 1,       /* set_atmosphere, and the air the tables in use were made for */
+  ATMO_STATE_HASH_CLOUDS = 2,    /* set_clouds' layers, and the light they are lit with now */
+  ATMO_STATE_HASH_FOG = 3,       /* set_fog */
+  ATMO_STATE_HASH_LIGHTS = 4,    /* set_lights, update_lights, set_light_group_pose */
+  ATMO_STATE_HASH_OCCLUDERS = 5, /* set_occluders, set_occluder_poses */
+  ATMO_STATE_HASH_VIEW = 6,      /* this view's set_view (differs between channels by design: not in `hash`) */
+  ATMO_STATE_HASH_PART_COUNT = 7
+} AtmoStateHashPart;
+
+/* A 64-bit hash of everything that changes a frame's pixels (get_state_hash), for channels, and tests, to
+   check they agree: equal hashes, equal pictures of equal views. */
+typedef struct AtmoStateHash {
+  AtmoStructHeader header;      /* ATMO_TYPE_STATE_HASH; the host sets header, the plugin fills the rest */
+  uint64_t host_frame_number;   /* the frame it was taken at (set_frame's) */
+  uint64_t hash;                /* parts FRAME .. OCCLUDERS combined: what every channel must share */
+  uint64_t parts[8];            /* by AtmoStateHashPart; the rest 0 */
+} AtmoStateHash;
+
+/* ------------------------------------------------------------------------ */
 /* Lighting for the host's own shading                                       */
 /* ------------------------------------------------------------------------ */
 
@@ -1067,6 +1100,13 @@ typedef struct AtmoPluginApi {
      view's eye, and per screen tile the objects near enough to shade). Needs gl_init, set_frame and
      set_view. Without objects: ATMO_STATUS_NOTHING_TO_DRAW and object_count 0. [ctx-sync][gl-current] */
   AtmoResult (*get_sky_occlusion)(AtmoView view, AtmoSkyOcclusion* out_occlusion);
+
+  /* --- Added with several channels (a host whose table ends above gets NULL here) --- */
+  /* The state this view's next pass would draw from, hashed (AtmoStateHash): call it after set_frame and
+     set_view, on every channel, and compare `hash` (docs/MULTI_CHANNEL.md). It settles what takes effect
+     this frame (deferred work whose frame has come: it may wait for it), as the first pass would.
+     [ctx-sync][no-gl] */
+  AtmoResult (*get_state_hash)(AtmoView view, AtmoStateHash* out_hash);
 } AtmoPluginApi;
 
 /* The one exported entry point. The host fills `host` and sets

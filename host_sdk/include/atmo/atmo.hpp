@@ -254,6 +254,14 @@ class View {
       context_->check(context_->api().get_sky_occlusion(view_, &out), "get_sky_occlusion");
     return out;
   }
+  // [no-gl] The state this view's next pass draws from, hashed (docs/MULTI_CHANNEL.md); false from a plugin
+  // without get_state_hash (out untouched).
+  bool state_hash(AtmoStateHash* out) const {
+    if (!context_->api().get_state_hash) return false;
+    *out = make<AtmoStateHash>(ATMO_TYPE_STATE_HASH);
+    context_->check(context_->api().get_state_hash(view_, out), "get_state_hash");
+    return true;
+  }
   AtmoView handle() const { return view_; }
 
  private:

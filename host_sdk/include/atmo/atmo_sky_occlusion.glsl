@@ -43,6 +43,19 @@
 //   A surface of an object itself is a receiver too: its own spheres that
 //   contain the point or lie behind its tangent plane are left out.
 //
+// THE IMAGE (every pixel at a few texture reads; docs/SKY_OCCLUSION.md, "The image"):
+//   after the host's depth, render_pass(ATMO_PASS_SKY_OCCLUSION, ATMO_PASS_SKY_OCCLUSION_IMAGE
+//   [| QUARTER_RES | SIXTEENTH_RES] [| NORMAL_UP]); then get_sky_occlusion, and
+//   #define ATMO_OCC_IMAGE before this include: the same atmo_sky_occlusion() call, which
+//   reads (each on its own unit; no sampler object there: they filter linearly)
+//     occ.image[0..2]  -> sampler2D atmo_occ_image0, atmo_occ_image1, atmo_occ_image2
+//     atmo_occ_image_map = vec4(occ.image_map), atmo_occ_enu_from_world, atmo_occ_sky_sh9[9]
+//   and gl_FragCoord (the image is the view's viewport's). The answer is the
+//   include's at each block's pixel, its normal applied by bands 0 and 1 at
+//   others; sun_visibility is the blocks' (edges move by up to a block: take
+//   the Sun's shadow from your shadow maps); sky_visibility is the fraction of
+//   the sky's light left.
+//
 // Everything outside the "#ifndef ATMO_TWIN" blocks is written in the subset the
 // plugin's C++ twin compiles (float literals with f, no swizzles).
 #ifndef ATMO_SKY_OCCLUSION_GLSL

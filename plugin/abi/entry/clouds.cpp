@@ -53,6 +53,10 @@ AtmoResult set_clouds(AtmoContext context, const AtmoCloudsState* state) {
       });
 }
 
+void settle_clouds(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene) {
+  if (!ctx->clouds.empty()) relight(ctx, cloud_light(ctx, view, scene).direction_enu);
+}
+
 AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene, const gl::PassInputs& inputs) {
   ContextClouds& c = ctx->clouds;
   gl::CloudFrameInputs frame;

@@ -38,4 +38,7 @@ AtmoResult get_sky_occlusion(AtmoView view, AtmoSkyOcclusion* out);
 AtmoResult set_light_group_pose(AtmoContext context, const AtmoLightGroupPose* pose);
 AtmoResult update_lights(AtmoContext context, const AtmoLightsUpdate* update);
 
+// sky.cpp
+AtmoResult get_state_hash(AtmoView view, AtmoStateHash* out);
+
 }  // namespace atmo::abi::entry

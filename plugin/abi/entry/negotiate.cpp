@@ -88,6 +88,7 @@ const AtmoPluginApi kApi = {
     &entry::set_occluders,
     &entry::set_occluder_poses,
     &entry::get_sky_occlusion,
+    &entry::get_state_hash,
 };
 
 }  // namespace

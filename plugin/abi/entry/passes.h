@@ -20,6 +20,10 @@ AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& 
 bool add_cloud_shadow(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene, gl::PassInputs* inputs,
                       std::string* error);
 
+// The clouds' deferred work due this frame taken, and their light checked, as the cloud pass does first
+// (get_state_hash hashes what the passes will draw from).
+void settle_clouds(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene);
+
 // fog.cpp
 AtmoResult fog_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene, const gl::PassInputs& inputs);
 AtmoResult light_points_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene,

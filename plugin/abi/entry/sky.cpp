@@ -5,8 +5,10 @@
 #include "abi/cloud_inputs.h"
 #include "abi/entry/call.h"
 #include "abi/entry/entry_points.h"
+#include "abi/entry/passes.h"
 #include "abi/pass_inputs.h"
 #include "abi/scene_inputs.h"
+#include "abi/state_hash.h"
 #include "abi/validation.h"
 #include "core/geo/geodesy.h"
 
@@ -32,6 +34,7 @@ AtmoResult set_frame(AtmoContext context, const AtmoFrameState* state) {
                         ctx->utc_posix_s = s.utc_posix_s;
                         ctx->dut1_s = s.dut1_s;
                         ctx->frame_number = s.host_frame_number;
+                        ctx->clouds.frame = s.host_frame_number;  // when the clouds' jobs are due
                         ctx->have_frame = true;
                         return ATMO_SUCCESS;
                       });
@@ -102,6 +105,21 @@ AtmoResult get_lighting(AtmoView view_handle, AtmoLighting* out) {
         }
         return ATMO_SUCCESS;
       });
+}
+
+AtmoResult get_state_hash(AtmoView view_handle, AtmoStateHash* out) {
+  return view_output_call(view_handle, "get_state_hash", out, ATMO_TYPE_STATE_HASH, "AtmoStateHash", false,
+                          [&](AtmoContext_T* ctx, AtmoView_T* view, AtmoStateHash& o) -> AtmoResult {
+                            // What this frame's passes draw from: the tables and the clouds' work due now.
+                            const core::Scene scene = prepare_scene(ctx, *view);
+                            settle_clouds(ctx, view, scene);
+                            uint64_t parts[ATMO_STATE_HASH_PART_COUNT] = {};
+                            state_hash_parts(ctx, *view, parts);
+                            o.host_frame_number = ctx->frame_number;
+                            o.hash = combined_state_hash(parts);
+                            for (int k = 0; k < 8; ++k) o.parts[k] = k < ATMO_STATE_HASH_PART_COUNT ? parts[k] : 0;
+                            return ATMO_SUCCESS;
+                          });
 }
 
 }  // namespace atmo::abi::entry
