@@ -76,7 +76,7 @@ void hash_clouds(AtmoContext_T& c, StateHasher* h) {
   hash_job(k.clipmap_job, h);
   h->add(!k.clipmap.levels.empty());
   if (!k.clipmap.levels.empty()) h->add(k.clipmap.cell);
-  c.cloud_renderer.hash_state(h);  // the impostors
+  c.cloud_renderer.hash_state(c.frame_number, h);  // the impostors, as this frame found them
 }
 
 void hash_fog(const AtmoContext_T& c, StateHasher* h) {

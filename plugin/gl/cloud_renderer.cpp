@@ -123,12 +123,18 @@ void CloudRenderer::destroy() {
 
 void CloudRenderer::forget() { *this = CloudRenderer{}; }
 
-void CloudRenderer::hash_state(core::StateHasher* h) const {
-  h->add(static_cast<uint64_t>(impostor_of_.size()));
+uint64_t CloudRenderer::impostor_hash() const {
+  core::StateHasher h;
+  h.add(static_cast<uint64_t>(impostor_of_.size()));
   for (const Impostor& im : impostor_of_) {
-    h->add(im.baked);
-    if (im.baked) h->add(im.baked_eye_m);
+    h.add(im.baked);
+    if (im.baked) h.add(im.baked_eye_m);
   }
+  return h.value();
+}
+
+void CloudRenderer::hash_state(uint64_t frame, core::StateHasher* h) const {
+  h->add(have_before_ && before_frame_ == frame ? impostors_before_update_ : impostor_hash());
 }
 
 bool CloudRenderer::upload_atlas(const CloudFrameInputs& frame, std::string* error) {
@@ -373,11 +379,17 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
   if (!init(error)) return false;
   guard.use_single_draw_buffer();
   const std::vector<clouds::CloudInstance>& instances = frame.field->instances;
+  if (!have_before_ || before_frame_ != frame.host_frame) {  // the state hash's view of this frame
+    impostors_before_update_ = impostor_hash();
+    before_frame_ = frame.host_frame;
+    have_before_ = true;
+  }
   if (!frame.layer && (frame.field_version != impostor_field_version_ || impostor_of_.size() != instances.size() ||
                        impostors_.tile_texels() != frame.impostors.tile_texels)) {  // (the layer march has none)
     impostors_.reset(frame.impostors.tile_texels);
     impostor_of_.assign(instances.size(), Impostor{});
     impostor_field_version_ = frame.field_version;
+    impostors_updated_once_ = false;
   }
   const int vw = in.viewport[2], vh = in.viewport[3];
   const int d = std::max(1, frame.divisor);
@@ -420,6 +432,15 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
   if (uploaded_version_ != frame.version || !atlas_) {
     if (!upload_atlas(frame, error)) return false;
   }
+  // Impostors: the context's, brought up to date once a host frame for every cloud, in view or not (whether a
+  // view sees a cloud must not decide when it is made: other channels do see it).
+  if (!frame.direct_only) {
+    if (!update_impostors(frame, error)) return false;
+    stats_.impostors_created = impostor_stats_.impostors_created;
+    stats_.impostors_updated = impostor_stats_.impostors_updated;
+    stats_.impostors_stale = impostor_stats_.impostors_stale;
+    impostor_stats_ = CloudDrawStats{};  // counted once, by the draw that made them
+  }
 
   // The view frustum's side planes and pixel density, in view space.
   const glm::dmat4 view_from_clip(in.view_from_clip);
@@ -461,54 +482,17 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
   }
   if (near.empty() && far.empty()) return true;
 
-  // Impostors: new ones now, stale ones within the budget (largest change first).
-  std::vector<size_t> to_bake;
-  std::vector<size_t> stale_items;
-  std::vector<double> staleness;
+  // A cloud without an impostor (over the atlas's cap) is marched.
   for (size_t k = 0; k < far.size(); ++k) {
-    Impostor& im = impostor_of_[far[k].index];
-    if (im.slot < 0) {
-      std::string alloc_error;
-      im.slot = impostors_.allocate(&alloc_error);
-      if (im.slot < 0) {  // over the cap: the direct march draws it
-        if (!alloc_error.empty() && error) *error = alloc_error;
-        near.push_back({far[k].distance_m, far[k].index, 1.0});
-        far.erase(far.begin() + static_cast<std::ptrdiff_t>(k--));
-        continue;
-      }
-    }
-    if (!im.baked) {
-      to_bake.push_back(far[k].index);
-      ++stats_.impostors_created;
-      continue;
-    }
-    const clouds::CloudVolume& v = frame.field->prototypes[static_cast<size_t>(instances[far[k].index].prototype)];
-    const double change = clouds::impostor_view_change_rad(im.baked_eye_m, frame.eye_in_clouds_m, im.board.centre_m,
-                                                           v.bounding_radius_m()) /
-                          frame.impostors.angle_threshold_rad;
-    const double s = im.version != frame.version ? 1.0 + change : change;
-    if (s >= 1.0) {
-      stale_items.push_back(far[k].index);
-      staleness.push_back(s);
-    }
+    const Impostor& im = impostor_of_[far[k].index];
+    if (im.slot >= 0 && im.baked) continue;
+    near.push_back({far[k].distance_m, far[k].index, 1.0});
+    far.erase(far.begin() + static_cast<std::ptrdiff_t>(k--));
   }
-  const std::vector<size_t> chosen = clouds::choose_impostor_updates(staleness, frame.impostors);
-  for (size_t c : chosen) to_bake.push_back(stale_items[c]);
-  stats_.impostors_updated = static_cast<int>(chosen.size());
-  stats_.impostors_stale = static_cast<int>(staleness.size() - chosen.size());
   std::sort(far.begin(), far.end(), [](const Item& a, const Item& b) { return a.distance_m > b.distance_m; });
   std::sort(near.begin(), near.end(), [](const Item& a, const Item& b) { return a.distance_m < b.distance_m; });
 
   set_draw_state();
-  if (!to_bake.empty()) {
-    glActiveTexture(GL_TEXTURE0 + kCloudUnit);
-    glBindTexture(GL_TEXTURE_3D, atlas_);
-    glBindSampler(kCloudUnit, border_sampler_);
-    glUseProgram(bake_.program);
-    set_cloud_uniforms(bake_.cloud, frame);
-    for (size_t index : to_bake)
-      if (!bake(frame, index, error)) return false;
-  }
 
   // The image: impostors far to near, then the direct march over them.
   if (!begin_image(w, h, error)) return false;
@@ -530,6 +514,64 @@ bool CloudRenderer::draw(Renderer& renderer, const PassInputs& in, const CloudFr
   composite(in, guard, target_, w, h, d);
   *drawn = true;
   return check_gl("drawing the clouds", error);
+}
+
+bool CloudRenderer::update_impostors(const CloudFrameInputs& frame, std::string* error) {
+  if (impostors_updated_once_ && frame.host_frame == impostor_frame_ && frame.version == impostor_light_version_ &&
+      frame.impostor_eye_in_clouds_m == impostor_eye_m_)
+    return true;
+  impostors_updated_once_ = true;
+  impostor_frame_ = frame.host_frame;
+  impostor_light_version_ = frame.version;
+  impostor_eye_m_ = frame.impostor_eye_in_clouds_m;
+  impostor_stats_ = CloudDrawStats{};
+  // Baked from the reference eye, in its axes: the same texels whichever view draws first.
+  CloudFrameInputs ref = frame;
+  ref.eye_in_clouds_m = frame.impostor_eye_in_clouds_m;
+  ref.eye_enu_from_clouds = frame.impostor_eye_enu_from_clouds;
+  // New ones now, stale ones within the budget (largest change first), over every cloud.
+  std::vector<size_t> to_bake, stale_items;
+  std::vector<double> staleness;
+  const std::vector<clouds::CloudInstance>& instances = frame.field->instances;
+  for (size_t i = 0; i < instances.size(); ++i) {
+    Impostor& im = impostor_of_[i];
+    if (im.slot < 0) {
+      std::string alloc_error;
+      im.slot = impostors_.allocate(&alloc_error);
+      if (im.slot < 0) {  // over the cap: the direct march draws it
+        if (!alloc_error.empty() && error) *error = alloc_error;
+        continue;
+      }
+    }
+    if (!im.baked) {
+      to_bake.push_back(i);
+      ++impostor_stats_.impostors_created;
+      continue;
+    }
+    const clouds::CloudVolume& v = frame.field->prototypes[static_cast<size_t>(instances[i].prototype)];
+    const double change = clouds::impostor_view_change_rad(im.baked_eye_m, ref.eye_in_clouds_m, im.board.centre_m,
+                                                           v.bounding_radius_m()) /
+                          frame.impostors.angle_threshold_rad;
+    const double st = im.version != frame.version ? 1.0 + change : change;
+    if (st >= 1.0) {
+      stale_items.push_back(i);
+      staleness.push_back(st);
+    }
+  }
+  const std::vector<size_t> chosen = clouds::choose_impostor_updates(staleness, frame.impostors);
+  for (size_t c : chosen) to_bake.push_back(stale_items[c]);
+  impostor_stats_.impostors_updated = static_cast<int>(chosen.size());
+  impostor_stats_.impostors_stale = static_cast<int>(staleness.size() - chosen.size());
+  if (to_bake.empty()) return true;
+  set_draw_state();
+  glActiveTexture(GL_TEXTURE0 + kCloudUnit);
+  glBindTexture(GL_TEXTURE_3D, atlas_);
+  glBindSampler(kCloudUnit, border_sampler_);
+  glUseProgram(bake_.program);
+  set_cloud_uniforms(bake_.cloud, ref);
+  for (size_t index : to_bake)
+    if (!bake(ref, index, error)) return false;
+  return true;
 }
 
 void CloudRenderer::set_draw_state() const {

@@ -55,6 +55,12 @@ struct CloudFrameInputs {
   uint64_t view_key = 0;              // temporal: whose history
   clouds::TemporalView temporal_view; // temporal: the view's camera (the renderer adds the eye and image)
   clouds::ImpostorSettings impostors;
+  // Impostors are the context's, not a view's: made once a host frame (or when this eye or the clouds' light
+  // change) for every cloud, from one eye (the first view's of the frame), so every view and every channel of
+  // any process layout draws the same impostors (docs/MULTI_CHANNEL.md).
+  uint64_t host_frame = 0;
+  glm::dvec3 impostor_eye_in_clouds_m{0.0};
+  glm::dmat3 impostor_eye_enu_from_clouds{1.0};
 };
 
 // What the last draw did, for tests, benchmarks and logs.
@@ -62,6 +68,7 @@ struct CloudDrawStats {
   int in_view = 0;           // clouds in the view frustum
   int impostors_drawn = 0;   // drawn from an impostor (weight > 0)
   int marched = 0;           // drawn by the direct march (weight > 0)
+  // The impostors' update, when this draw made it (the first of its host frame; else 0):
   int impostors_created = 0; // rendered for the first time
   int impostors_updated = 0; // re-rendered (stale, within the budget)
   int impostors_stale = 0;   // past a threshold and left for later frames
@@ -88,8 +95,9 @@ class CloudRenderer {
   // The view is gone: its cloud history is freed on the next draw. [no-gl]
   void retire_view(uint64_t view_key) { temporal_.retire(view_key); }
   const CloudDrawStats& last_stats() const { return stats_; }
-  // What the impostors hold (which are made, from which eye), for the state hash.
-  void hash_state(core::StateHasher* h) const;
+  // What the impostors hold (which are made, from which eye) at the start of host frame `frame`, for the state
+  // hash: before that frame's update, whichever view's pass made it.
+  void hash_state(uint64_t frame, core::StateHasher* h) const;
 
  private:
   // The uniforms of cloud_instance.glsl, in each program that includes it.
@@ -126,6 +134,8 @@ class CloudRenderer {
   struct Item;
 
   bool upload_atlas(const CloudFrameInputs& frame, std::string* error);
+  // Every cloud's impostor brought up to date from the reference eye, once a host frame (or eye, or light).
+  bool update_impostors(const CloudFrameInputs& frame, std::string* error);
   void set_draw_state() const;
   // Binds and clears the low-resolution image as the draw target.
   bool begin_image(int w, int h, std::string* error);
@@ -159,6 +169,14 @@ class CloudRenderer {
   GLuint shadow_ = 0;
   uint64_t shadow_field_version_ = 0, shadow_version_ = 0;
   std::vector<Impostor> impostor_of_;     // per instance
+  bool impostors_updated_once_ = false;
+  uint64_t impostor_frame_ = 0, impostor_light_version_ = 0;  // what the last update was made for
+  glm::dvec3 impostor_eye_m_{0.0};
+  CloudDrawStats impostor_stats_;          // its counts
+  // impostor_hash() as the first draw of host frame before_frame_ found it (before it changed anything).
+  bool have_before_ = false;
+  uint64_t before_frame_ = 0, impostors_before_update_ = 0;
+  uint64_t impostor_hash() const;
   uint64_t impostor_field_version_ = 0;
   CloudDrawStats stats_;
 };

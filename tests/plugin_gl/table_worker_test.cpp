@@ -341,6 +341,37 @@ TEST(TableWorker, TheDueFrameWaitsForASlowWorker) {
   EXPECT_TRUE(same_image(fresh.render(*target), due)) << "the due frame draws the new air";
 }
 
+// Two channels, one of whose machine builds tables slowly (its worker sleeps 600 ms first): every frame draws
+// the same pixels and hashes the same state on both, before, at and after the switch.
+TEST(TableWorker, ASlowChannelSwitchesOnTheSameFrameAsAFastOne) {
+  std::string error;
+  auto gl = HeadlessGl::create(HeadlessGl::Profile::Core, &error);
+  ASSERT_TRUE(gl) << error;
+  auto target = OffscreenTarget::create(kWidth, kHeight, &error);
+  ASSERT_TRUE(target) << error;
+  Host fast(gl.get()), slow(gl.get());
+  fast.render(*target);
+  slow.render(*target);
+  slow.worker().test_before_build = [](const std::atomic<bool>&) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(600));
+  };
+  fast.set_air(5000.0);
+  slow.set_air(5000.0);
+  auto hash = [](Host& h) {
+    auto out = atmo::make<AtmoStateHash>(ATMO_TYPE_STATE_HASH);
+    EXPECT_EQ(h.api.get_state_hash(h.view, &out), ATMO_SUCCESS);
+    return out.hash;
+  };
+  for (uint64_t f = 1; f <= ATMO_DEFERRED_FRAMES + 1; ++f) {
+    fast.next_frame();
+    slow.next_frame();
+    EXPECT_EQ(hash(fast), hash(slow)) << "frame " << f;
+    EXPECT_TRUE(same_image(fast.render(*target), slow.render(*target))) << "frame " << f;
+    EXPECT_EQ(fast.inside().tables_version, slow.inside().tables_version) << "frame " << f;
+  }
+  EXPECT_EQ(slow.inside().tables_key.visibility_m, 5000.0);
+}
+
 // (b)
 TEST(TableWorker, ChangesWhileABuildRunsBuildOnlyTheRunningAndTheNewest) {
   Host host;

@@ -93,6 +93,12 @@ AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& 
                           static_cast<uint32_t>(c.clipmap.cell.y));
   }
   frame.impostors = c.settings.impostors;
+  // The impostors are updated once a host frame, by its first cloud pass, from that view's eye: the channels of
+  // one vehicle share the eye's position, so whichever draws first makes the same impostors (views of one
+  // context with different eyes get the first one's: docs/MULTI_CHANNEL.md).
+  frame.host_frame = ctx->frame_number;
+  frame.impostor_eye_in_clouds_m = frame.eye_in_clouds_m;
+  frame.impostor_eye_enu_from_clouds = frame.eye_enu_from_clouds;
   frame.octaves = clouds::default_octaves();
   frame.octaves.count = c.settings.octaves;
   frame.divisor = c.settings.layer ? cost.divisor : c.settings.march_divisor;
