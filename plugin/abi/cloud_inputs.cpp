@@ -257,7 +257,7 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
   if (c.settings.layer && !c.settings.wait) prepare_draft(&c);
   c.version = out->version + 1;
   c.field_version = c.version;
-  c.frame = ctx.frame_number;
+  c.frame = ctx.frame_clock;
   *out = std::move(c);  // (a move stops the jobs of both sides: the field job starts after it)
   if (any_coarse)
     out->field_job.start(std::make_unique<CloudFieldJob>([pieces = std::move(pieces)](const std::atomic<bool>& cancel) {
@@ -274,7 +274,7 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
         append_field(std::move(g.field), &f);
       }
       return f;
-    }), ctx.frame_number);
+    }), ctx.frame_clock);
   return {};
 }
 

@@ -49,7 +49,12 @@ struct AtmoContext_T {
   bool have_frame = false;
   double utc_posix_s = 0.0;
   double dut1_s = 0.0;
-  uint64_t frame_number = 0;
+  uint64_t frame_number = 0;   // AtmoFrameState.host_frame_number
+  // The frame clock deferred work is due by: host_frame_number once the host has numbered a frame (sent a
+  // non-zero number), else the count of set_frame calls before this one (a host that never numbers its frames:
+  // 0, 1, 2 ... as if it had).
+  uint64_t frame_clock = 0, set_frame_calls = 0;
+  bool host_numbers_frames = false;
   uint64_t views_created = 0;  // each view's serial: its key for per-view GL state (the clouds' history)
 
   // The CPU lookup tables the passes upload and get_lighting reads, and what

@@ -47,19 +47,19 @@ void update_tables(AtmoContext_T* c, const TableKey& wanted, bool now = false) {
   if (wanted != c->tables_requested) {
     c->table_worker.request(wanted);
     c->tables_requested = wanted;
-    c->tables_requested_frame = c->frame_number;
-    c->tables_due_frame = c->frame_number + ATMO_DEFERRED_FRAMES;
+    c->tables_requested_frame = c->frame_clock;
+    c->tables_due_frame = c->frame_clock + ATMO_DEFERRED_FRAMES;
   }
   // Not before its frame (a fast worker must not make this channel switch before a slow one), and at its frame
   // whatever the worker's pace: it waits for the build (a host frame number that went back counts as due).
-  if (!now && c->frame_number < c->tables_due_frame && c->frame_number >= c->tables_requested_frame) return;
+  if (!now && c->frame_clock < c->tables_due_frame && c->frame_clock >= c->tables_requested_frame) return;
   c->table_worker.wait_idle();
   AtmosphereTables done;
   if (c->table_worker.take_finished(&done) && done.key == wanted) {
     char ms[32];
     std::snprintf(ms, sizeof(ms), "%.0f", done.build_ms);
     c->services.log(ATMO_LOG_INFO, "atmo: atmosphere tables (" + describe(done.key) + ") in use from host frame " +
-                                       std::to_string(c->frame_number) + " (asked for at frame " +
+                                       std::to_string(c->frame_clock) + " (asked for at frame " +
                                        std::to_string(c->tables_requested_frame) + "), built in " + ms +
                                        " ms on the worker thread");
     install(c, std::move(done));

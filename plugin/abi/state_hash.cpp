@@ -11,6 +11,7 @@ using core::StateHasher;
 
 void hash_frame(const AtmoContext_T& c, StateHasher* h) {
   h->add(c.frame_number);
+  h->add(c.frame_clock);
   h->add(c.utc_posix_s);
   h->add(c.dut1_s);
 }
@@ -76,7 +77,7 @@ void hash_clouds(AtmoContext_T& c, StateHasher* h) {
   hash_job(k.clipmap_job, h);
   h->add(!k.clipmap.levels.empty());
   if (!k.clipmap.levels.empty()) h->add(k.clipmap.cell);
-  c.cloud_renderer.hash_state(c.frame_number, h);  // the impostors, as this frame found them
+  c.cloud_renderer.hash_state(c.frame_clock, h);  // the impostors, as this frame found them
 }
 
 void hash_fog(const AtmoContext_T& c, StateHasher* h) {

@@ -250,9 +250,13 @@ typedef struct AtmoAtmosphereState {
    need TT, and UT1 = UTC + dut1_s for the Earth's rotation. */
 typedef struct AtmoFrameState {
   AtmoStructHeader header;      /* ATMO_TYPE_FRAME_STATE */
-  uint64_t host_frame_number;   /* named in the passes' log lines; the clouds' temporal history
-                                   (AtmoViewState.cloud_quality) is dropped when it is neither the last
-                                   frame's nor the next; nothing else depends on it */
+  uint64_t host_frame_number;   /* the frame's number, the same on every channel: work done off the host's
+                                   thread (new tables, the clouds' lighting) takes effect at the frame it was
+                                   asked at + ATMO_DEFERRED_FRAMES; the clouds' impostors are updated once a
+                                   frame; the clouds' temporal history (AtmoViewState.cloud_quality) is
+                                   dropped when it is neither the last frame's nor the next; named in the
+                                   passes' log lines. A host that leaves it 0 has its set_frame calls counted
+                                   instead (docs/MULTI_CHANNEL.md) */
   double utc_posix_s;           /* simulation time, see above. Valid range [-62 135 596 800, 253 402 300 799] s:
                                    0001-01-01T00:00:00Z to 9999-12-31T23:59:59Z (docs/EPHEMERIS.md: accuracy
                                    degrades outside 1900-2100) */

@@ -96,7 +96,7 @@ AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& 
   // The impostors are updated once a host frame, by its first cloud pass, from that view's eye: the channels of
   // one vehicle share the eye's position, so whichever draws first makes the same impostors (views of one
   // context with different eyes get the first one's: docs/MULTI_CHANNEL.md).
-  frame.host_frame = ctx->frame_number;
+  frame.host_frame = ctx->frame_clock;
   frame.impostor_eye_in_clouds_m = frame.eye_in_clouds_m;
   frame.impostor_eye_enu_from_clouds = frame.eye_enu_from_clouds;
   frame.octaves = clouds::default_octaves();

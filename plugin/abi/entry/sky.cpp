@@ -34,7 +34,10 @@ AtmoResult set_frame(AtmoContext context, const AtmoFrameState* state) {
                         ctx->utc_posix_s = s.utc_posix_s;
                         ctx->dut1_s = s.dut1_s;
                         ctx->frame_number = s.host_frame_number;
-                        ctx->clouds.frame = s.host_frame_number;  // when the clouds' jobs are due
+                        ++ctx->set_frame_calls;
+                        ctx->host_numbers_frames = ctx->host_numbers_frames || s.host_frame_number != 0;
+                        ctx->frame_clock = ctx->host_numbers_frames ? s.host_frame_number : ctx->set_frame_calls - 1;
+                        ctx->clouds.frame = ctx->frame_clock;  // when the clouds' jobs are due
                         ctx->have_frame = true;
                         return ATMO_SUCCESS;
                       });
