@@ -354,6 +354,14 @@ void call(Reader& in, AtmoView view) {
       check_result(g_api.get_lighting(view, out), "get_lighting");
       break;
     }
+    case atmo_fuzz::kGetStateHash: {
+      HostStruct<AtmoStateHash> s;
+      read_struct(in, head, ATMO_TYPE_STATE_HASH, &s);
+      finish(&s);
+      AtmoStateHash* out = null ? nullptr : reinterpret_cast<AtmoStateHash*>(s.bytes.data());
+      check_result(g_api.get_state_hash(view, out), "get_state_hash");
+      break;
+    }
   }
 }
 

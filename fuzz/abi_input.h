@@ -45,7 +45,8 @@ enum Op : uint8_t {
   kSetLightGroupPose = 8,
   kSetOccluders = 9,
   kSetOccluderPoses = 10,
-  kOpCount = 11
+  kGetStateHash = 11,
+  kOpCount = 12
 };
 
 enum CallFlags : uint8_t {

@@ -16,6 +16,7 @@ PACKAGES=(
   clang libclang-rt-14-dev
   colord-data
   kstars-data
+  openmpi-bin libopenmpi-dev
 )
 
 missing=()

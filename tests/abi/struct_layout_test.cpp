@@ -15,8 +15,8 @@ TEST(StructLayout, Version1SizesAreFrozen) {
   // The function table grew at its end (set_clouds); 144-byte hosts get no clouds.
   EXPECT_EQ(V1Size<AtmoPluginApi>::value, 144u);
   // 160 with get_cloud_shadows, 184 with set_fog, set_lights, get_fog_lighting, 200 with the light groups' two;
-  // then sky occlusion's three (set_occluders, set_occluder_poses, get_sky_occlusion)
-  EXPECT_EQ(sizeof(AtmoPluginApi), 224u);
+  // then sky occlusion's three (set_occluders, set_occluder_poses, get_sky_occlusion): 224; get_state_hash: 232
+  EXPECT_EQ(sizeof(AtmoPluginApi), 232u);
   EXPECT_EQ(sizeof(AtmoFogState), V1Size<AtmoFogState>::value);
   // AtmoLightsState grew at its end (group, visual_threshold_lux); 72-byte hosts replace group 0.
   EXPECT_EQ(V1Size<AtmoLightsState>::value, 72u);
@@ -35,8 +35,12 @@ TEST(StructLayout, Version1SizesAreFrozen) {
   EXPECT_EQ(sizeof(AtmoOccludersState), 64u);
   EXPECT_EQ(sizeof(AtmoOccluderPoses), V1Size<AtmoOccluderPoses>::value);
   EXPECT_EQ(sizeof(AtmoOccluderPoses), 32u);
-  EXPECT_EQ(sizeof(AtmoSkyOcclusion), V1Size<AtmoSkyOcclusion>::value);
-  EXPECT_EQ(sizeof(AtmoSkyOcclusion), 2312u);
+  // AtmoSkyOcclusion grew at its end (the image); a 2312-byte host gets the rest.
+  EXPECT_EQ(V1Size<AtmoSkyOcclusion>::value, 2312u);
+  EXPECT_EQ(offsetof(AtmoSkyOcclusion, image), 2312u);
+  EXPECT_EQ(sizeof(AtmoSkyOcclusion), 2360u);
+  EXPECT_EQ(sizeof(AtmoStateHash), V1Size<AtmoStateHash>::value);
+  EXPECT_EQ(sizeof(AtmoStateHash), 96u);
   // AtmoFogLighting grew at its end (the clusters); a 136-byte host gets light_count 0 (its include predates them).
   EXPECT_EQ(V1Size<AtmoFogLighting>::value, 136u);
   // ... then again (the translucent surfaces' fields): a 400-byte host keeps its surfaces' lights.

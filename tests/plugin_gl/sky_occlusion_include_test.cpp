@@ -684,9 +684,16 @@ TEST(SkyOcclusionAbi, UndersizedStructsAndStridesAreRefused) {
   }
   {
     AtmoSkyOcclusion o = atmo::make<AtmoSkyOcclusion>(ATMO_TYPE_SKY_OCCLUSION);
-    o.header.struct_size = sizeof(AtmoSkyOcclusion) - 8;
+    o.header.struct_size = 2312 - 8;  // below the version-1 size
     EXPECT_EQ(s.api().get_sky_occlusion(s.f.view->handle(), &o), ATMO_ERROR_STRUCT_TOO_SMALL);
     EXPECT_EQ(o.object_count, 0u) << "an error leaves the host's struct as it was";
+    // A host compiled before the image (2312 bytes): filled up to there, the rest of its memory untouched.
+    AtmoSkyOcclusion older = atmo::make<AtmoSkyOcclusion>(ATMO_TYPE_SKY_OCCLUSION);
+    older.header.struct_size = 2312;
+    older.image[0] = 12345u;
+    EXPECT_EQ(s.api().get_sky_occlusion(s.f.view->handle(), &older), ATMO_SUCCESS);
+    EXPECT_EQ(older.object_count, 3u);
+    EXPECT_EQ(older.image[0], 12345u) << "nothing written past the host's struct";
     EXPECT_EQ(s.api().get_sky_occlusion(s.f.view->handle(), nullptr), ATMO_ERROR_INVALID_ARGUMENT);
   }
   // A host built with larger structs (a later version's): its arrays' strides are honoured.

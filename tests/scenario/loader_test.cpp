@@ -331,6 +331,90 @@ TEST(LoaderSyntax, DuplicateKeyAtDepth) {
   EXPECT_EQ(r.error, "x.json: /cameras/1/name: duplicate key (each field may appear once)");
 }
 
+// A flight and its channels: values as written, the defaults, the frame count from the keyframes.
+TEST(Loader, ChannelsAndFlight) {
+  json d = minimal();
+  d["channels"] = {{"horizontal_fov_deg", 60}, {"vertical_fov_deg", 35}, {"overlap_deg", 6}, {"width", 160}, {"height", 90}};
+  d["flight"] = json::parse(R"({
+    "frame_rate_hz": 0.02,
+    "keyframes": [
+      {"t_s": 0, "position": {"enu_m": [0, 0, 1500]}, "heading_deg": 200},
+      {"t_s": 950, "position": {"geodetic": {"latitude_deg": 47.3, "longitude_deg": 11.4, "height_m": 2000}},
+       "heading_deg": 260, "pitch_deg": 5}
+    ],
+    "events": [
+      {"at_frame": 5, "atmosphere": {"visibility_m": 8000}},
+      {"at_frame": 10, "clouds": [{"type": "cumulus", "coverage_oktas": 3, "base_m": 1400, "top_m": 2600, "seed": 4}]},
+      {"at_frame": 12, "clouds": []}
+    ]
+  })");
+  const auto r = load(d);
+  ASSERT_TRUE(r.scenario) << r.error;
+  const sc::Scenario& s = *r.scenario;
+  ASSERT_TRUE(s.channels);
+  EXPECT_EQ(s.channels->layout, sc::ChannelLayout::Wrap);
+  EXPECT_EQ(s.channels->count, 3);
+  EXPECT_EQ(s.channels->horizontal_fov_deg, 60.0);
+  EXPECT_EQ(s.channels->vertical_fov_deg, 35.0);
+  EXPECT_EQ(s.channels->overlap_deg, 6.0);
+  EXPECT_EQ(s.channels->width, 160);
+  EXPECT_EQ(s.channels->height, 90);
+  EXPECT_EQ(s.channels->near_m, 1.0);
+  EXPECT_EQ(s.channels->far_m, 100000.0);
+  ASSERT_TRUE(s.flight);
+  EXPECT_EQ(s.flight->frame_rate_hz, 0.02);
+  EXPECT_EQ(s.flight->frames, 20);  // floor(950 * 0.02) + 1
+  ASSERT_EQ(s.flight->keyframes.size(), 2u);
+  EXPECT_EQ(s.flight->keyframes[0].position.kind, sc::Position::Kind::Enu);
+  EXPECT_EQ(s.flight->keyframes[0].pitch_deg, 0.0);
+  EXPECT_EQ(s.flight->keyframes[1].position.kind, sc::Position::Kind::Geodetic);
+  EXPECT_EQ(s.flight->keyframes[1].heading_deg, 260.0);
+  EXPECT_EQ(s.flight->keyframes[1].pitch_deg, 5.0);
+  ASSERT_EQ(s.flight->events.size(), 3u);
+  EXPECT_EQ(s.flight->events[0].at_frame, 5);
+  ASSERT_TRUE(s.flight->events[0].atmosphere);
+  EXPECT_EQ(s.flight->events[0].atmosphere->visibility_m, 8000.0);
+  EXPECT_EQ(s.flight->events[0].atmosphere->aerosol_scale_height_m, 1200.0);  // a whole section: the default
+  EXPECT_FALSE(s.flight->events[0].clouds);
+  ASSERT_TRUE(s.flight->events[1].clouds);
+  ASSERT_EQ(s.flight->events[1].clouds->size(), 1u);
+  EXPECT_EQ((*s.flight->events[1].clouds)[0].seed, 4u);
+  ASSERT_TRUE(s.flight->events[2].clouds);
+  EXPECT_TRUE(s.flight->events[2].clouds->empty());
+  EXPECT_FALSE(load(minimal()).scenario->flight);
+  EXPECT_FALSE(load(minimal()).scenario->channels);
+
+  d["flight"]["frames"] = 7;
+  const auto given = load(d);
+  ASSERT_TRUE(given.scenario) << given.error;
+  EXPECT_EQ(given.scenario->flight->frames, 7);
+}
+
+// The rules only the loader can check, each named by its pointer.
+TEST(Loader, ChannelsAndFlightCrossFieldRules) {
+  json d = minimal();
+  d["channels"] = {{"horizontal_fov_deg", 60}, {"vertical_fov_deg", 35}, {"overlap_deg", 60}, {"width", 16}, {"height", 9}};
+  EXPECT_EQ(load(d).error, "test.json: /channels/overlap_deg: expected a number < horizontal_fov_deg (60), found 60");
+  d["channels"]["overlap_deg"] = 5;
+  d["channels"]["near_m"] = 10;
+  d["channels"]["far_m"] = 10;
+  EXPECT_EQ(load(d).error, "test.json: /channels/far_m: expected a number > near_m (10), found 10");
+  d.erase("channels");
+  d["flight"] = json::parse(R"({"frame_rate_hz": 30, "keyframes": [
+      {"t_s": 1, "position": {"enu_m": [0, 0, 1]}, "heading_deg": 0},
+      {"t_s": 1, "position": {"enu_m": [0, 0, 1]}, "heading_deg": 0}]})");
+  EXPECT_EQ(load(d).error,
+            "test.json: /flight/keyframes/1/t_s: expected a number > the previous keyframe's t_s (1), found 1");
+  d["flight"]["keyframes"][1]["t_s"] = 40000;
+  EXPECT_EQ(load(d).error,
+            "test.json: /flight/keyframes: expected keyframes spanning at most 10^6 frames at frame_rate_hz, found "
+            "1200001 (give \"frames\")");
+  d["flight"]["events"] = json::parse(R"([{"at_frame": 3}])");
+  d["flight"]["keyframes"][1]["t_s"] = 2;
+  EXPECT_EQ(load(d).error,
+            "test.json: /flight/events/0: expected at least one of \"atmosphere\" or \"clouds\", found neither");
+}
+
 // ---------------------------------------------------------------------------
 // Loader and schema accept the same documents at every boundary.
 
@@ -527,6 +611,46 @@ std::vector<Mutation> boundary_cases() {
       {"/expectations", {{"luminance_checks", {{{"name", "a"}, {"u", 1}, {"min_cd_m2", 0}, {"max_cd_m2", 1}}}}}, false},
       {"/expectations", {{"luminance_checks", obj}}, false},
       {"/extra_section", obj, false},
+      // Display channels and a flight (samples/channels, docs/MULTI_CHANNEL.md).
+      {"/channels", {{"horizontal_fov_deg", 60}, {"vertical_fov_deg", 40}, {"width", 160}, {"height", 90}}, true},
+      {"/channels", {{"horizontal_fov_deg", 60}, {"vertical_fov_deg", 40}, {"width", 160}}, false},
+      {"/channels", {{"layout", "dome"}, {"horizontal_fov_deg", 60}, {"vertical_fov_deg", 40}, {"width", 16}, {"height", 9}}, false},
+      {"/channels", {{"count", 64}, {"horizontal_fov_deg", 179.9}, {"vertical_fov_deg", 40}, {"width", 16}, {"height", 9}}, true},
+      {"/channels", {{"count", 65}, {"horizontal_fov_deg", 60}, {"vertical_fov_deg", 40}, {"width", 16}, {"height", 9}}, false},
+      {"/channels", {{"count", 0}, {"horizontal_fov_deg", 60}, {"vertical_fov_deg", 40}, {"width", 16}, {"height", 9}}, false},
+      {"/channels", {{"horizontal_fov_deg", 180}, {"vertical_fov_deg", 40}, {"width", 16}, {"height", 9}}, false},
+      {"/channels", {{"horizontal_fov_deg", 60}, {"vertical_fov_deg", 0}, {"width", 16}, {"height", 9}}, false},
+      {"/channels", {{"horizontal_fov_deg", 60}, {"vertical_fov_deg", 40}, {"overlap_deg", -1}, {"width", 16}, {"height", 9}}, false},
+      {"/channels", {{"horizontal_fov_deg", 60}, {"vertical_fov_deg", 40}, {"overlap_deg", 0}, {"width", 16}, {"height", 9}}, true},
+      {"/channels", {{"horizontal_fov_deg", 60}, {"vertical_fov_deg", 40}, {"width", 8193}, {"height", 9}}, false},
+      {"/channels", {{"horizontal_fov_deg", 60}, {"vertical_fov_deg", 40}, {"width", 16}, {"height", 9}, {"near_m", 0}}, false},
+      {"/channels", {{"horizontal_fov_deg", 60}, {"vertical_fov_deg", 40}, {"width", 16}, {"height", 9}, {"fov", 1}}, false},
+      {"/flight", {{"frame_rate_hz", 30}, {"keyframes", {{{"t_s", 0}, {"position", {{"enu_m", {0, 0, 1}}}}, {"heading_deg", 0}}}}}, true},
+      {"/flight", {{"frame_rate_hz", 0}, {"keyframes", {{{"t_s", 0}, {"position", {{"enu_m", {0, 0, 1}}}}, {"heading_deg", 0}}}}}, false},
+      {"/flight", {{"frame_rate_hz", 1000}, {"frames", 1000000}, {"keyframes", {{{"t_s", 0}, {"position", {{"enu_m", {0, 0, 1}}}}, {"heading_deg", 0}}}}}, true},
+      {"/flight", {{"frame_rate_hz", 1000.5}, {"keyframes", {{{"t_s", 0}, {"position", {{"enu_m", {0, 0, 1}}}}, {"heading_deg", 0}}}}}, false},
+      {"/flight", {{"frame_rate_hz", 30}, {"frames", 0}, {"keyframes", {{{"t_s", 0}, {"position", {{"enu_m", {0, 0, 1}}}}, {"heading_deg", 0}}}}}, false},
+      {"/flight", {{"frame_rate_hz", 30}, {"keyframes", json::array()}}, false},
+      {"/flight", {{"frame_rate_hz", 30}}, false},
+      {"/flight", {{"frame_rate_hz", 30}, {"keyframes", {{{"t_s", -1}, {"position", {{"enu_m", {0, 0, 1}}}}, {"heading_deg", 0}}}}}, false},
+      {"/flight", {{"frame_rate_hz", 30}, {"keyframes", {{{"t_s", 0}, {"heading_deg", 0}}}}}, false},
+      {"/flight", {{"frame_rate_hz", 30}, {"keyframes", {{{"t_s", 0}, {"position", {{"enu_m", {0, 0, 1}}}}}}}}, false},
+      {"/flight", {{"frame_rate_hz", 30}, {"keyframes", {{{"t_s", 0}, {"position", {{"enu_m", {0, 0, 1}}}}, {"heading_deg", 0}, {"pitch_deg", 90.5}}}}}, false},
+      {"/flight", {{"frame_rate_hz", 30}, {"keyframes", {{{"t_s", 0}, {"position", {{"enu_m", {0, 0, 1}}}}, {"heading_deg", 0}, {"roll_deg", 0}}}}}, false},
+      {"/flight", {{"frame_rate_hz", 30}, {"keyframes", {{{"t_s", 0}, {"position", {{"enu_m", {0, 0, 1}}}}, {"heading_deg", 0}}}},
+                   {"events", {{{"at_frame", 5}, {"atmosphere", {{"visibility_m", 5000}}}},
+                               {{"at_frame", 10}, {"clouds", {{{"type", "cumulus"}, {"coverage_oktas", 4}, {"base_m", 1200}, {"top_m", 2500}}}}},
+                               {{"at_frame", 11}, {"clouds", json::array()}}}}}, true},
+      {"/flight", {{"frame_rate_hz", 30}, {"keyframes", {{{"t_s", 0}, {"position", {{"enu_m", {0, 0, 1}}}}, {"heading_deg", 0}}}},
+                   {"events", {{{"at_frame", 5}}}}}, false},
+      {"/flight", {{"frame_rate_hz", 30}, {"keyframes", {{{"t_s", 0}, {"position", {{"enu_m", {0, 0, 1}}}}, {"heading_deg", 0}}}},
+                   {"events", {{{"at_frame", -1}, {"atmosphere", obj}}}}}, false},
+      {"/flight", {{"frame_rate_hz", 30}, {"keyframes", {{{"t_s", 0}, {"position", {{"enu_m", {0, 0, 1}}}}, {"heading_deg", 0}}}},
+                   {"events", {{{"at_frame", 1}, {"atmosphere", {{"visibility_m", 10}}}}}}}, false},
+      {"/flight", {{"frame_rate_hz", 30}, {"keyframes", {{{"t_s", 0}, {"position", {{"enu_m", {0, 0, 1}}}}, {"heading_deg", 0}}}},
+                   {"events", {{{"at_frame", 1}, {"clouds", {{{"type", "cumulus"}}}}}}}}, false},
+      {"/flight", {{"frame_rate_hz", 30}, {"keyframes", {{{"t_s", 0}, {"position", {{"enu_m", {0, 0, 1}}}}, {"heading_deg", 0}}}},
+                   {"events", {{{"at_frame", 1}, {"fog", obj}}}}}, false},
   };
 }
 

@@ -205,6 +205,25 @@ TEST(ShippedScenarios, NoonClearIsTheDescribedDefault) {
   EXPECT_EQ(s.terrain->kind, sc::TerrainKind::Hills);
 }
 
+// The flights of config/scenarios/flights (atmo-channels, docs/MULTI_CHANNEL.md; not among the scenarios
+// `atmo render` draws in the suite): they load, the schema accepts them, and each has channels and a flight.
+TEST(FlightScenarios, LoadAndTheSchemaAcceptsThem) {
+  const std::vector<std::string> files = json_files(kConfig / "scenarios" / "flights", "");
+  ASSERT_EQ(files, std::vector<std::string>{"channels_flight.json"});
+  const atmo_test::SchemaValidator v(schema_json());
+  for (const std::string& f : files) {
+    const fs::path path = kConfig / "scenarios" / "flights" / f;
+    const auto r = sc::load_scenario_file(path.string());
+    ASSERT_TRUE(r.scenario) << r.error;
+    EXPECT_TRUE(r.scenario->channels) << f;
+    ASSERT_TRUE(r.scenario->flight) << f;
+    EXPECT_EQ(r.scenario->flight->frames, 120) << f;
+    EXPECT_FALSE(r.scenario->flight->events.empty()) << f;
+    const auto errors = v.validate(json::parse(read_text(path)));
+    EXPECT_TRUE(errors.empty()) << f << ": " << ::testing::PrintToString(errors);
+  }
+}
+
 // ---------------------------------------------------------------------------
 // Malformed examples: each gives one error line naming the file and the
 // exact JSON pointer (or line and column for syntax errors).

@@ -108,46 +108,9 @@ std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
 // The scenario's cloud layers through set_clouds (none: no call, no cost).
 void set_clouds(const sc::Scenario& scenario, atmo::Context& context) {
   if (scenario.clouds.empty()) return;
-  const hs::Geodetic origin = to_host(scenario.location);
-  std::vector<AtmoCloudLayer> layers;
-  std::vector<std::string> paths(scenario.clouds.size());
-  for (size_t i = 0; i < scenario.clouds.size(); ++i) {
-    const sc::CloudLayer& c = scenario.clouds[i];
-    AtmoCloudLayer l = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
-    switch (c.type) {
-      case sc::CloudType::Cumulus: l.type = ATMO_CLOUD_CUMULUS; break;
-      case sc::CloudType::Stratus: l.type = ATMO_CLOUD_STRATUS; break;
-      case sc::CloudType::Overcast: l.type = ATMO_CLOUD_OVERCAST; break;
-      case sc::CloudType::Cirrus: l.type = ATMO_CLOUD_CIRRUS; break;
-      case sc::CloudType::Vdb: l.type = ATMO_CLOUD_VDB_FILE; break;
-    }
-    l.seed = c.seed;
-    if (c.type == sc::CloudType::Vdb) {
-      paths[i] = sc::resolve_path(scenario, c.vdb_file);
-      l.vdb_path = paths[i].c_str();
-      const glm::dvec3 p = c.position.kind == sc::Position::Kind::Enu
-                               ? glm::dvec3(c.position.enu_m[0], c.position.enu_m[1], c.position.enu_m[2])
-                               : hs::enu_from_geodetic(origin, to_host(c.position.geodetic));
-      for (int k = 0; k < 3; ++k) l.position_enu_m[k] = p[k];
-      l.rotation_deg[0] = c.heading_deg;
-      l.metres_per_unit = c.scale;
-      l.density_scale = c.density_scale;
-    } else {
-      l.coverage_oktas = c.coverage_oktas;
-      l.base_m = c.base_m;
-      l.top_m = c.top_m;
-      l.area_size_m = sc::cloud_layer_area_m(scenario, c);
-    }
-    layers.push_back(l);
-  }
-  AtmoCloudsState state =
-      atmo::clouds_state(scenario.location.latitude_deg, scenario.location.longitude_deg, scenario.location.height_m,
-                         layers.data(), static_cast<uint32_t>(layers.size()));
-  static_assert(int(sc::CloudDrawMode::Auto) == ATMO_CLOUD_DRAW_AUTO &&
-                int(sc::CloudDrawMode::Impostors) == ATMO_CLOUD_DRAW_IMPOSTORS &&
-                int(sc::CloudDrawMode::Direct) == ATMO_CLOUD_DRAW_DIRECT &&
-                int(sc::CloudDrawMode::Layer) == ATMO_CLOUD_DRAW_LAYER);
-  state.draw_mode = static_cast<uint32_t>(scenario.render.cloud_draw_mode);
+  std::vector<std::string> paths;
+  const std::vector<AtmoCloudLayer> layers = cloud_layers_of(scenario, scenario.clouds, &paths);
+  AtmoCloudsState state = clouds_state_of(scenario, layers);
   state.setup = ATMO_CLOUD_SETUP_WAIT;  // a still: the full lighting, whatever the draw mode
   const AtmoResult r = context.set_clouds(state);
   if (r != ATMO_SUCCESS) std::printf("  clouds: %s\n", context.last_error().c_str());

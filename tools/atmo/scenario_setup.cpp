@@ -152,13 +152,64 @@ AtmoOccludersState occluders_state_enu(const hs::Geodetic& origin, const std::ve
   return state;
 }
 
-AtmoAtmosphereState atmosphere_state_of(const scenario::Scenario& s) {
+std::vector<AtmoCloudLayer> cloud_layers_of(const sc::Scenario& s, const std::vector<sc::CloudLayer>& layers,
+                                            std::vector<std::string>* vdb_paths) {
+  const hs::Geodetic origin = origin_of(s);
+  std::vector<AtmoCloudLayer> out;
+  vdb_paths->assign(layers.size(), std::string());  // no reallocation below: the layers point into it
+  for (size_t i = 0; i < layers.size(); ++i) {
+    const sc::CloudLayer& c = layers[i];
+    AtmoCloudLayer l = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
+    switch (c.type) {
+      case sc::CloudType::Cumulus: l.type = ATMO_CLOUD_CUMULUS; break;
+      case sc::CloudType::Stratus: l.type = ATMO_CLOUD_STRATUS; break;
+      case sc::CloudType::Overcast: l.type = ATMO_CLOUD_OVERCAST; break;
+      case sc::CloudType::Cirrus: l.type = ATMO_CLOUD_CIRRUS; break;
+      case sc::CloudType::Vdb: l.type = ATMO_CLOUD_VDB_FILE; break;
+    }
+    l.seed = c.seed;
+    if (c.type == sc::CloudType::Vdb) {
+      (*vdb_paths)[i] = sc::resolve_path(s, c.vdb_file);
+      l.vdb_path = (*vdb_paths)[i].c_str();
+      const glm::dvec3 p = c.position.kind == sc::Position::Kind::Enu
+                               ? glm::dvec3(c.position.enu_m[0], c.position.enu_m[1], c.position.enu_m[2])
+                               : hs::enu_from_geodetic(origin, to_host(c.position.geodetic));
+      for (int k = 0; k < 3; ++k) l.position_enu_m[k] = p[k];
+      l.rotation_deg[0] = c.heading_deg;
+      l.metres_per_unit = c.scale;
+      l.density_scale = c.density_scale;
+    } else {
+      l.coverage_oktas = c.coverage_oktas;
+      l.base_m = c.base_m;
+      l.top_m = c.top_m;
+      l.area_size_m = sc::cloud_layer_area_m(s, c);
+    }
+    out.push_back(l);
+  }
+  return out;
+}
+
+AtmoCloudsState clouds_state_of(const sc::Scenario& s, const std::vector<AtmoCloudLayer>& layers) {
+  AtmoCloudsState state = atmo::clouds_state(s.location.latitude_deg, s.location.longitude_deg, s.location.height_m,
+                                             layers.empty() ? nullptr : layers.data(),
+                                             static_cast<uint32_t>(layers.size()));
+  static_assert(int(sc::CloudDrawMode::Auto) == ATMO_CLOUD_DRAW_AUTO &&
+                int(sc::CloudDrawMode::Impostors) == ATMO_CLOUD_DRAW_IMPOSTORS &&
+                int(sc::CloudDrawMode::Direct) == ATMO_CLOUD_DRAW_DIRECT &&
+                int(sc::CloudDrawMode::Layer) == ATMO_CLOUD_DRAW_LAYER);
+  state.draw_mode = static_cast<uint32_t>(s.render.cloud_draw_mode);
+  return state;
+}
+
+AtmoAtmosphereState atmosphere_state_of(const scenario::Atmosphere& a) {
   auto atmosphere = atmo::make<AtmoAtmosphereState>(ATMO_TYPE_ATMOSPHERE_STATE);
-  atmosphere.visibility_m = s.atmosphere.visibility_m;
-  atmosphere.aerosol_scale_height_m = s.atmosphere.aerosol_scale_height_m;
-  atmosphere.ground_albedo = std::max(s.atmosphere.ground_albedo, 1e-6);
+  atmosphere.visibility_m = a.visibility_m;
+  atmosphere.aerosol_scale_height_m = a.aerosol_scale_height_m;
+  atmosphere.ground_albedo = std::max(a.ground_albedo, 1e-6);
   return atmosphere;
 }
+
+AtmoAtmosphereState atmosphere_state_of(const scenario::Scenario& s) { return atmosphere_state_of(s.atmosphere); }
 
 AtmoFrameState frame_state_of(const scenario::Scenario& s) {
   auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);

@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "atmo/atmo.h"
@@ -62,8 +63,19 @@ ScenarioObjects objects_of(const scenario::Scenario& s);
 AtmoOccludersState occluders_state_enu(const host_scene::Geodetic& origin,
                                        const std::vector<AtmoOccluderObject>& objects, uint32_t flags = 0);
 
+// set_clouds' layers for `layers` (the scenario's "clouds", or a flight event's), in the ENU frame at
+// origin_of(s): procedural layers over cloud_layer_area_m, VDB files resolved against the scenario's folder
+// (their paths kept in *vdb_paths, one per layer, which must outlive the call that takes the layers).
+std::vector<AtmoCloudLayer> cloud_layers_of(const scenario::Scenario& s, const std::vector<scenario::CloudLayer>& layers,
+                                            std::vector<std::string>* vdb_paths);
+// set_clouds' state over `layers` (from cloud_layers_of, which must outlive the call): ENU at origin_of(s), the
+// scenario's render.cloud_draw_mode, the other knobs at the plugin's defaults (setup: ATMO_CLOUD_SETUP_STREAM).
+AtmoCloudsState clouds_state_of(const scenario::Scenario& s, const std::vector<AtmoCloudLayer>& layers);
+
 // set_atmosphere's and set_frame's states: the file's air and its UTC.
 AtmoAtmosphereState atmosphere_state_of(const scenario::Scenario& s);
+// set_atmosphere's state for an atmosphere section (the file's, or a flight event's).
+AtmoAtmosphereState atmosphere_state_of(const scenario::Atmosphere& a);
 AtmoFrameState frame_state_of(const scenario::Scenario& s);
 
 // set_fog's state: the file's visibility, and its top (above the ENU origin)

@@ -54,7 +54,11 @@ AtmoResult set_clouds(AtmoContext context, const AtmoCloudsState* state) {
 }
 
 void settle_clouds(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene) {
-  if (!ctx->clouds.empty()) relight(ctx, cloud_light(ctx, view, scene).direction_enu);
+  ContextClouds& c = ctx->clouds;
+  if (c.empty()) return;
+  relight(ctx, cloud_light(ctx, view, scene).direction_enu);
+  // The layer march's clipmap for this eye (the channels share it), as the pass would make it first.
+  if (c.settings.layer) update_clipmap(&c, eye_in_cloud_frame(c, view->eye.eye_ecef_m));
 }
 
 AtmoResult clouds_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::Scene& scene, const gl::PassInputs& inputs) {

@@ -4,6 +4,7 @@
 #include "atmo_scenario/scenario.h"
 
 #include <cctype>
+#include <cmath>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -25,7 +26,7 @@ const std::vector<ObjectShape> kShapes = {
     {"scenario",
      {"$schema", "schema_version", "name", "description", "location", "utc", "dut1_s", "cameras",
       "atmosphere", "terrain", "clouds", "fog", "lights", "objects", "night_sky", "render", "outputs",
-      "expectations"}},
+      "expectations", "channels", "flight"}},
     {"geodetic", {"latitude_deg", "longitude_deg", "height_m"}},
     {"position", {"enu_m", "geodetic"}},
     {"camera",
@@ -49,6 +50,12 @@ const std::vector<ObjectShape> kShapes = {
     {"expectations", {"finite", "reference", "luminance_checks", "max_frame_ms"}},
     {"reference", {"image", "metric", "min_psnr_db"}},
     {"luminance_check", {"name", "u", "v", "min_cd_m2", "max_cd_m2", "camera"}},
+    {"channels",
+     {"layout", "count", "horizontal_fov_deg", "vertical_fov_deg", "overlap_deg", "width", "height", "near_m",
+      "far_m"}},
+    {"flight", {"frame_rate_hz", "frames", "keyframes", "events"}},
+    {"flight_keyframe", {"t_s", "position", "heading_deg", "pitch_deg"}},
+    {"flight_event", {"at_frame", "atmosphere", "clouds"}},
 };
 
 const std::vector<std::string>& shape(const char* name) {
@@ -134,6 +141,8 @@ class Loader {
     if (const json* v = r.field("expectations", false, "")) {
       expectations(*v, r.child("expectations"), s->cameras, &s->expectations);
     }
+    if (const json* v = r.field("channels", false, "")) channels(*v, r.child("channels"), &s->channels.emplace());
+    if (const json* v = r.field("flight", false, "")) flight(*v, r.child("flight"), &s->flight.emplace());
   }
 
  private:
@@ -519,6 +528,100 @@ class Loader {
     }
   }
 
+  void channels(const json& v, const std::string& ptr, Channels* c) {
+    ObjectReader r(errors_, v, ptr, shape("channels"), "channels");
+    if (!r.valid()) return;
+    if (auto x = r.choice("layout", {"wrap"}, 0)) c->layout = static_cast<ChannelLayout>(*x);
+    if (auto x = r.integer("count", 1, 64, 3)) c->count = static_cast<int>(*x);
+    const auto hfov = r.number("horizontal_fov_deg", Range::open(0, 180), std::nullopt);
+    if (hfov) c->horizontal_fov_deg = *hfov;
+    if (auto x = r.number("vertical_fov_deg", Range::open(0, 180), std::nullopt)) c->vertical_fov_deg = *x;
+    const auto overlap = r.number("overlap_deg", Range{0.0, 180.0, false, true}, 0.0);
+    if (overlap) c->overlap_deg = *overlap;
+    if (hfov && overlap && !(*overlap < *hfov)) {
+      errors_.expected(r.child("overlap_deg"),
+                       "a number < horizontal_fov_deg (" + detail::describe(*hfov) + ")", *overlap);
+    }
+    if (auto x = r.integer("width", 1, 8192, std::nullopt)) c->width = static_cast<int>(*x);
+    if (auto x = r.integer("height", 1, 8192, std::nullopt)) c->height = static_cast<int>(*x);
+    const auto near_m = r.number("near_m", Range::above(0), 1.0);
+    const auto far_m = r.number("far_m", Range::above(0), 100000.0);
+    if (near_m) c->near_m = *near_m;
+    if (far_m) c->far_m = *far_m;
+    if (near_m && far_m && !(*far_m > *near_m)) {
+      errors_.expected(r.child("far_m"), "a number > near_m (" + detail::describe(*near_m) + ")", *far_m);
+    }
+  }
+
+  void flight(const json& v, const std::string& ptr, Flight* f) {
+    ObjectReader r(errors_, v, ptr, shape("flight"), "flight");
+    if (!r.valid()) return;
+    if (auto x = r.number("frame_rate_hz", Range{0.0, 1000.0, true, false}, std::nullopt)) f->frame_rate_hz = *x;
+    const bool frames_given = r.field("frames", false, "") != nullptr;
+    const auto frames = r.integer("frames", 1, 1000000, 0);
+    if (const json* k = r.field("keyframes", true, "an array of at least 1 keyframe")) {
+      keyframes(*k, r.child("keyframes"), &f->keyframes);
+    }
+    if (frames_given && frames) {
+      f->frames = *frames;
+    } else if (!frames_given && !f->keyframes.empty()) {
+      const double last = f->keyframes.back().t_s * f->frame_rate_hz;
+      f->frames = static_cast<std::int64_t>(std::floor(last + 1e-9)) + 1;
+      if (f->frames > 1000000) {
+        errors_.add(r.child("keyframes"), "expected keyframes spanning at most 10^6 frames at frame_rate_hz, found " +
+                                              std::to_string(f->frames) + " (give \"frames\")");
+      }
+    }
+    if (const json* e = r.field("events", false, "")) events(*e, r.child("events"), &f->events);
+  }
+
+  void keyframes(const json& v, const std::string& ptr, std::vector<FlightKeyframe>* out) {
+    if (!v.is_array() || v.empty()) {
+      errors_.expected(ptr, "an array of at least 1 keyframe", v);
+      return;
+    }
+    std::optional<double> previous_t;
+    for (size_t i = 0; i < v.size(); ++i) {
+      FlightKeyframe k;
+      ObjectReader r(errors_, v[i], ptr + "/" + std::to_string(i), shape("flight_keyframe"), "flight keyframe");
+      if (!r.valid()) continue;
+      if (auto x = r.number("t_s", Range::at_least(0), std::nullopt)) {
+        k.t_s = *x;
+        if (previous_t && !(*x > *previous_t)) {
+          errors_.expected(r.child("t_s"),
+                           "a number > the previous keyframe's t_s (" + detail::describe(*previous_t) + ")", *x);
+        }
+        previous_t = *x;
+      }
+      if (const json* p = r.field("position", true, "an object with \"enu_m\" or \"geodetic\"")) {
+        position(*p, r.child("position"), &k.position);
+      }
+      if (auto x = r.number("heading_deg", Range::closed(-360, 360), std::nullopt)) k.heading_deg = *x;
+      if (auto x = r.number("pitch_deg", Range::closed(-90, 90), 0.0)) k.pitch_deg = *x;
+      out->push_back(std::move(k));
+    }
+  }
+
+  void events(const json& v, const std::string& ptr, std::vector<FlightEvent>* out) {
+    if (!v.is_array()) {
+      errors_.expected(ptr, "an array of flight events", v);
+      return;
+    }
+    for (size_t i = 0; i < v.size(); ++i) {
+      FlightEvent e;
+      const std::string ep = ptr + "/" + std::to_string(i);
+      ObjectReader r(errors_, v[i], ep, shape("flight_event"), "flight event");
+      if (!r.valid()) continue;
+      if (auto x = r.integer("at_frame", 0, 1000000000, std::nullopt)) e.at_frame = *x;
+      const json* a = r.field("atmosphere", false, "");
+      const json* c = r.field("clouds", false, "");
+      if (!a && !c) errors_.add(ep, "expected at least one of \"atmosphere\" or \"clouds\", found neither");
+      if (a) atmosphere(*a, r.child("atmosphere"), &e.atmosphere.emplace());
+      if (c) clouds(*c, r.child("clouds"), &e.clouds.emplace());
+      out->push_back(std::move(e));
+    }
+  }
+
   detail::Errors errors_;
 };
 
@@ -598,6 +701,13 @@ const char* to_string(DepthConvention c) {
     case DepthConvention::Standard: return "standard";
     case DepthConvention::Reversed: return "reversed";
     case DepthConvention::Logarithmic: return "logarithmic";
+  }
+  return "?";
+}
+
+const char* to_string(ChannelLayout l) {
+  switch (l) {
+    case ChannelLayout::Wrap: return "wrap";
   }
   return "?";
 }

@@ -210,6 +210,50 @@ struct Expectations {
   std::optional<double> max_frame_ms;  // > 0
 };
 
+// Display channels side by side (a multi-channel image generator; samples/channels,
+// docs/MULTI_CHANNEL.md). Wrap: count channels around the vertical axis, each
+// horizontal_fov_deg wide, adjacent ones sharing an edge-blend band of
+// overlap_deg; channel i (0 = leftmost) is centred at
+// (i - (count - 1) / 2) * (horizontal_fov_deg - overlap_deg) right of the eye's heading.
+enum class ChannelLayout { Wrap };
+struct Channels {
+  ChannelLayout layout = ChannelLayout::Wrap;
+  int count = 3;                     // [1, 64]
+  double horizontal_fov_deg = 60.0;  // (0, 180)
+  double vertical_fov_deg = 40.0;    // (0, 180)
+  double overlap_deg = 0.0;          // [0, horizontal_fov_deg)
+  int width = 0;                     // pixels of each channel, [1, 8192]
+  int height = 0;                    // [1, 8192]
+  double near_m = 1.0;               // > 0
+  double far_m = 100000.0;           // > near_m
+};
+
+// One pose of the eye on the flight path, at t_s seconds after the scenario's utc.
+struct FlightKeyframe {
+  double t_s = 0.0;          // >= 0, increasing from keyframe to keyframe
+  Position position;         // the cameras' position (all channels share it)
+  double heading_deg = 0.0;  // [-360, 360]; interpolated as written (350 to 10 turns the long way)
+  double pitch_deg = 0.0;    // [-90, 90]
+};
+
+// What changes at the start of a frame: a whole atmosphere section (absent
+// fields take the format's defaults, as at the top level) and/or the clouds
+// (replaced; an empty list clears them).
+struct FlightEvent {
+  std::int64_t at_frame = 0;  // [0, 10^9]
+  std::optional<Atmosphere> atmosphere;
+  std::optional<std::vector<CloudLayer>> clouds;
+};
+
+// Frame k shows t = k / frame_rate_hz seconds after utc, the eye at the
+// keyframes' linear interpolation (held before the first and after the last).
+struct Flight {
+  double frame_rate_hz = 60.0;  // (0, 1000]
+  std::int64_t frames = 0;      // [1, 10^6]; absent: floor(last t_s * frame_rate_hz) + 1
+  std::vector<FlightKeyframe> keyframes;  // at least 1
+  std::vector<FlightEvent> events;        // in file order; several may share a frame
+};
+
 // Sections with defaults for every field are plain members, filled in when
 // absent; sections whose absence means "feature off" are optional.
 struct Scenario {
@@ -235,6 +279,8 @@ struct Scenario {
   Render render;
   Outputs outputs;
   Expectations expectations;
+  std::optional<Channels> channels;  // absent: the sample host's defaults (samples/channels)
+  std::optional<Flight> flight;      // absent: one frame at the first camera's pose
 
   std::vector<Notice> not_yet_supported;  // one per such section present
 };
@@ -292,6 +338,7 @@ const char* to_string(TerrainKind kind);
 const char* to_string(CloudType type);
 const char* to_string(DepthConvention convention);
 const char* to_string(OutputEncoding encoding);
+const char* to_string(ChannelLayout layout);
 
 }  // namespace atmo::scenario
 
