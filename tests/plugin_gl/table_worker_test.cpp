@@ -208,6 +208,14 @@ bool same_light(const AtmoLighting& a, const AtmoLighting& b) {
 
 bool same_image(const Image& a, const Image& b) { return a.rgba == b.rgba; }
 
+// A headless GL context and an offscreen target.
+struct GlTarget {
+  std::string error;
+  std::unique_ptr<HeadlessGl> gl = HeadlessGl::create(HeadlessGl::Profile::Core, &error);
+  std::unique_ptr<OffscreenTarget> target = gl ? OffscreenTarget::create(kWidth, kHeight, &error) : nullptr;
+  bool ok() const { return gl && target; }
+};
+
 }  // namespace
 
 TEST(TableWorker, FirstUseBuildsOnTheCallingThreadWithProgressInTheLog) {
@@ -240,11 +248,10 @@ TEST(TableWorker, FirstUseBuildsOnTheCallingThreadWithProgressInTheLog) {
 // New tables take effect ATMO_DEFERRED_FRAMES host frames after they were asked for: not before, even when
 // the worker is done early (a fast channel must not switch before a slow one), and not later.
 TEST(TableWorker, FramesKeepTheOldTablesUntilTheirFrameThenSwap) {
-  std::string error;
-  auto gl = HeadlessGl::create(HeadlessGl::Profile::Core, &error);
-  ASSERT_TRUE(gl) << error;
-  auto target = OffscreenTarget::create(kWidth, kHeight, &error);
-  ASSERT_TRUE(target) << error;
+  GlTarget g;
+  ASSERT_TRUE(g.ok()) << g.error;
+  std::unique_ptr<HeadlessGl>& gl = g.gl;
+  std::unique_ptr<OffscreenTarget>& target = g.target;
   Host host(gl.get());
   const Image clear_image = host.render(*target);
   const AtmoLighting clear_light = host.lighting();
@@ -313,11 +320,10 @@ TEST(TableWorker, FramesKeepTheOldTablesUntilTheirFrameThenSwap) {
 // At their frame the new tables are waited for: a slow machine (here a worker held until 200 ms after the frame
 // began) still switches on the same frame as the others.
 TEST(TableWorker, TheDueFrameWaitsForASlowWorker) {
-  std::string error;
-  auto gl = HeadlessGl::create(HeadlessGl::Profile::Core, &error);
-  ASSERT_TRUE(gl) << error;
-  auto target = OffscreenTarget::create(kWidth, kHeight, &error);
-  ASSERT_TRUE(target) << error;
+  GlTarget g;
+  ASSERT_TRUE(g.ok()) << g.error;
+  std::unique_ptr<HeadlessGl>& gl = g.gl;
+  std::unique_ptr<OffscreenTarget>& target = g.target;
   Host host(gl.get());
   const Image clear_image = host.render(*target);
   Gate gate;
@@ -344,11 +350,10 @@ TEST(TableWorker, TheDueFrameWaitsForASlowWorker) {
 // Two channels, one of whose machine builds tables slowly (its worker sleeps 600 ms first): every frame draws
 // the same pixels and hashes the same state on both, before, at and after the switch.
 TEST(TableWorker, ASlowChannelSwitchesOnTheSameFrameAsAFastOne) {
-  std::string error;
-  auto gl = HeadlessGl::create(HeadlessGl::Profile::Core, &error);
-  ASSERT_TRUE(gl) << error;
-  auto target = OffscreenTarget::create(kWidth, kHeight, &error);
-  ASSERT_TRUE(target) << error;
+  GlTarget g;
+  ASSERT_TRUE(g.ok()) << g.error;
+  std::unique_ptr<HeadlessGl>& gl = g.gl;
+  std::unique_ptr<OffscreenTarget>& target = g.target;
   Host fast(gl.get()), slow(gl.get());
   fast.render(*target);
   slow.render(*target);

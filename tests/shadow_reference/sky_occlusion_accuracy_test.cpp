@@ -38,20 +38,33 @@ shadows::OcclusionFrame frame_for(const std::vector<shadows::OccluderObject>& ob
                                        shadows::OcclusionLimits{});
 }
 
+// A configuration as the include sees it (one object of albedo 0.5) and as the ray tracer does.
+struct Configured {
+  std::vector<shadows::OccluderObject> objects;
+  shadows::OcclusionFrame frame;
+  Scene scene;
+};
+Configured configure(const OcclusionConfig& c, const glm::dvec3& sun, const glm::dvec3& sun_lux) {
+  Configured k;
+  k.objects = {shadows::make_occluder_object(c.spheres, glm::dvec3(0.5))};
+  k.frame = frame_for(k.objects, sun, sun_lux);
+  for (const glm::dvec4& s : c.spheres) k.scene.spheres.push_back({glm::dvec3(s), s.w, 0});
+  k.scene.object_albedo = {glm::dvec3(0.5)};
+  k.scene.sky_radiance = test_sky_radiance;
+  k.scene.sun_direction = sun;
+  k.scene.sun_illuminance = sun_lux;
+  return k;
+}
+
 TEST(SkyOcclusionAccuracy, IncludeAgainstTheRayTracedReference) {
   const glm::dvec3 sun = glm::normalize(glm::dvec3(0.3, -0.5, 0.8)), sun_lux(9e4, 8.8e4, 8.5e4);
   std::vector<double> errors;
   double worst = 0.0, worst_bounce = 0.0;
   std::string worst_at;
   for (const OcclusionConfig& c : occlusion_configs()) {
-    const std::vector<shadows::OccluderObject> objects = {shadows::make_occluder_object(c.spheres, glm::dvec3(0.5))};
-    const shadows::OcclusionFrame frame = frame_for(objects, sun, sun_lux);
-    Scene scene;
-    for (const glm::dvec4& s : c.spheres) scene.spheres.push_back({glm::dvec3(s), s.w, 0});
-    scene.object_albedo = {glm::dvec3(0.5)};
-    scene.sky_radiance = test_sky_radiance;
-    scene.sun_direction = sun;
-    scene.sun_illuminance = sun_lux;
+    const Configured k = configure(c, sun, sun_lux);
+    const shadows::OcclusionFrame& frame = k.frame;
+    const Scene& scene = k.scene;
     double config_worst = 0.0;
     for (const Receiver& r : c.receivers) {
       const Estimate open = sky_irradiance(scene, r.position_m, r.normal, false, 40000);
@@ -105,14 +118,9 @@ TEST(SkyOcclusionAccuracy, ImageFitAtTiltedNormals) {
   std::vector<double> image_errors[2], include_errors[2], bounce_diffs;
   double at_fit_worst = 0.0;
   for (const OcclusionConfig& c : occlusion_configs()) {
-    const std::vector<shadows::OccluderObject> objects = {shadows::make_occluder_object(c.spheres, glm::dvec3(0.5))};
-    const shadows::OcclusionFrame frame = frame_for(objects, sun, sun_lux);
-    Scene scene;
-    for (const glm::dvec4& s : c.spheres) scene.spheres.push_back({glm::dvec3(s), s.w, 0});
-    scene.object_albedo = {glm::dvec3(0.5)};
-    scene.sky_radiance = test_sky_radiance;
-    scene.sun_direction = sun;
-    scene.sun_illuminance = sun_lux;
+    const Configured k = configure(c, sun, sun_lux);
+    const shadows::OcclusionFrame& frame = k.frame;
+    const Scene& scene = k.scene;
     for (const Receiver& r : c.receivers) {
       const glm::vec3 rel_eye = glm::vec3(r.position_m + glm::dvec3(0, 60, -3));
       shadows::twin::AtmoOccFit fit;
