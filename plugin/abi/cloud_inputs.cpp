@@ -258,6 +258,7 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
   c.version = out->version + 1;
   c.field_version = c.version;
   c.frame = ctx.frame_clock;
+  c.deferred_frames = ctx.deferred_frames;
   *out = std::move(c);  // (a move stops the jobs of both sides: the field job starts after it)
   if (any_coarse)
     out->field_job.start(std::make_unique<CloudFieldJob>([pieces = std::move(pieces)](const std::atomic<bool>& cancel) {
@@ -274,7 +275,7 @@ Verdict build_clouds(const AtmoCloudsState& s, const AtmoContext_T& ctx, Context
         append_field(std::move(g.field), &f);
       }
       return f;
-    }), ctx.frame_clock);
+    }), ctx.frame_clock, ctx.deferred_frames);
   return {};
 }
 
@@ -365,7 +366,7 @@ void start_relight(ContextClouds* c, const glm::dvec3& light_dir, bool first) {
   if (c->sole_instance.size() == c->field.prototypes.size()) r.neighbours = {c->sole_instance, &c->ray_index};
   c->relight.start(std::make_unique<CloudRelightJob>(
                        &c->field, first ? std::vector<clouds::LightDepths>{} : c->depths, std::move(r)),
-                   c->frame);
+                   c->frame, c->deferred_frames);
   if (c->settings.wait) {
     c->relight.job->wait();
     c->relight.due_frame = c->frame;
@@ -517,7 +518,7 @@ bool update_clipmap(ContextClouds* c, const glm::dvec3& eye) {
   r.geometry = c->clipmap_geometry;
   r.cell = cell;
   r.built_for = c->version;
-  c->clipmap_job.start(std::make_unique<CloudClipmapJob>(std::move(r)), c->frame);
+  c->clipmap_job.start(std::make_unique<CloudClipmapJob>(std::move(r)), c->frame, c->deferred_frames);
   return changed;
 }
 

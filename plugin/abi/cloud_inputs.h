@@ -87,6 +87,7 @@ struct ContextClouds {
   double lowest_base_m = 0.0, highest_top_m = 0.0;  // of the grids' boxes, above origin (the sky passes' shadow)
   CloudSettings settings;
   uint64_t frame = 0;                        // the host frame of the call (set_frame): when jobs are due
+  uint64_t deferred_frames = ATMO_DEFERRED_FRAMES;  // a job started at frame f is due at f + this
   // The Sun and Moon seen from the clouds' origin: the clouds are lit from
   // there, so the light (and what is relit when) is one per frame, whatever
   // the views and their order.

@@ -150,7 +150,7 @@ class CloudFieldJob {
 // cancelled job is simply asked for again by the next frame.
 //
 // A job takes effect at a host frame fixed when it starts (started_frame +
-// ATMO_DEFERRED_FRAMES: due()), never at "the first call after it ends",
+// AtmoFrameState.deferred_frames: due()), never at "the first call after it ends",
 // so every channel of a multi-channel host switches on the same frame
 // whatever its machine's pace; the owner waits for a job that is due and
 // not done. A host frame number that went back makes a job due.
@@ -158,10 +158,10 @@ template <class Job>
 struct CloudJobSlot {
   std::unique_ptr<Job> job;
   uint64_t started_frame = 0, due_frame = 0;
-  void start(std::unique_ptr<Job> j, uint64_t frame) {
+  void start(std::unique_ptr<Job> j, uint64_t frame, uint64_t deferred_frames = ATMO_DEFERRED_FRAMES) {
     job = std::move(j);
     started_frame = frame;
-    due_frame = frame + ATMO_DEFERRED_FRAMES;
+    due_frame = frame + deferred_frames;
   }
   bool due(uint64_t frame) const { return job && (frame >= due_frame || frame < started_frame); }
   CloudJobSlot() = default;

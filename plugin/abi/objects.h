@@ -54,6 +54,7 @@ struct AtmoContext_T {
   // non-zero number), else the count of set_frame calls before this one (a host that never numbers its frames:
   // 0, 1, 2 ... as if it had).
   uint64_t frame_clock = 0, set_frame_calls = 0;
+  uint64_t deferred_frames = ATMO_DEFERRED_FRAMES;  // AtmoFrameState.deferred_frames (0 there: the default)
   bool host_numbers_frames = false;
   uint64_t views_created = 0;  // each view's serial: its key for per-view GL state (the clouds' history)
 

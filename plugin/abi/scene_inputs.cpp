@@ -48,7 +48,7 @@ void update_tables(AtmoContext_T* c, const TableKey& wanted, bool now = false) {
     c->table_worker.request(wanted);
     c->tables_requested = wanted;
     c->tables_requested_frame = c->frame_clock;
-    c->tables_due_frame = c->frame_clock + ATMO_DEFERRED_FRAMES;
+    c->tables_due_frame = c->frame_clock + c->deferred_frames;
   }
   // Not before its frame (a fast worker must not make this channel switch before a slow one), and at its frame
   // whatever the worker's pace: it waits for the build (a host frame number that went back counts as due).

@@ -12,6 +12,7 @@ using core::StateHasher;
 void hash_frame(const AtmoContext_T& c, StateHasher* h) {
   h->add(c.frame_number);
   h->add(c.frame_clock);
+  h->add(c.deferred_frames);
   h->add(c.utc_posix_s);
   h->add(c.dut1_s);
 }

@@ -172,6 +172,9 @@ Verdict validate_frame(const AtmoFrameState& s) {
     return v;
   if (!in_range(&v, "AtmoFrameState.dut1_s", s.dut1_s, -core::astro::kMaxAbsDut1S, core::astro::kMaxAbsDut1S, "s"))
     return v;
+  if (s.deferred_frames > 100000u)
+    return {ATMO_ERROR_OUT_OF_RANGE,
+            "AtmoFrameState.deferred_frames = " + std::to_string(s.deferred_frames) + " is above 100000"};
   return v;
 }
 

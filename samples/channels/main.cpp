@@ -70,6 +70,7 @@ struct Options {
   int fault_rank = -1;       // test hook: this rank draws fault_frame a minute late
   std::int64_t fault_frame = -1;
   bool plugin_log = false;   // every plugin log line (else warnings and errors)
+  std::uint32_t deferred_frames = 0;  // AtmoFrameState.deferred_frames; 0: the plugin's ATMO_DEFERRED_FRAMES
 };
 
 // What every rank knows about the run (the same on every rank: computed from the same argv and file).
@@ -337,6 +338,7 @@ class ChannelProcess {
     frame.host_frame_number = f.frame;
     frame.utc_posix_s = f.utc_posix_s;
     frame.dut1_s = f.dut1_s;
+    frame.deferred_frames = options_.deferred_frames;
     context_->set_frame(frame);
   }
 
@@ -860,6 +862,10 @@ int main(int argc, char** argv) {
   app.add_option("--view-order", o.view_order, "the order each process creates and draws its views, e.g. 2,0,1");
   app.add_option("--slow-rank", o.slow_rank, "this rank sleeps --slow-ms before drawing each frame")->check(CLI::NonNegativeNumber);
   app.add_option("--slow-ms", o.slow_ms, "milliseconds the slow rank sleeps")->check(CLI::Range(0, 60000));
+  app.add_option("--deferred-frames", o.deferred_frames,
+                 "frames between asking for work off the host's thread and its effect (AtmoFrameState.deferred_frames; "
+                 "0: the plugin's default)")
+      ->check(CLI::Range(0, 100000));
   app.add_option("--save-every", o.save_every, "write the images every K frames (and the last; 0: the last only)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--no-images", o.no_images, "write no images (the CSV only)");

@@ -55,7 +55,9 @@ TEST(StructLayout, Version1SizesAreFrozen) {
   EXPECT_EQ(sizeof(AtmoContextCreateInfo), V1Size<AtmoContextCreateInfo>::value);
   EXPECT_EQ(sizeof(AtmoViewCreateInfo), V1Size<AtmoViewCreateInfo>::value);
   EXPECT_EQ(sizeof(AtmoAtmosphereState), V1Size<AtmoAtmosphereState>::value);
-  EXPECT_EQ(sizeof(AtmoFrameState), V1Size<AtmoFrameState>::value);
+  // AtmoFrameState grew at its end (deferred_frames); 40-byte hosts get ATMO_DEFERRED_FRAMES.
+  EXPECT_EQ(V1Size<AtmoFrameState>::value, 40u);
+  EXPECT_EQ(sizeof(AtmoFrameState), 48u);
   // AtmoViewState grew at its end (sky_method); 408-byte hosts read it as AUTO.
   EXPECT_EQ(V1Size<AtmoViewState>::value, 408u);
   EXPECT_EQ(sizeof(AtmoViewState), 464u);  // 440 before depth_origin and aerial_range_m, 456 before cloud_quality

@@ -208,6 +208,25 @@ TEST(Determinism, StateHashPartsFollowTheirInputs) {
   const AtmoStateHash h4 = take();
   EXPECT_EQ(changed(h3, h4), std::vector<int>{ATMO_STATE_HASH_VIEW});
   EXPECT_EQ(h4.hash, h3.hash) << "the view is not in the shared hash";
+  // AtmoFrameState.deferred_frames: new tables asked for at frame 8 with 2 frames' room are in use at frame 10.
+  auto at = [&](uint64_t n, uint32_t deferred) {
+    auto fs = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+    fs.utc_posix_s = kStartUtc;
+    fs.host_frame_number = n;
+    fs.deferred_frames = deferred;
+    fx.context->set_frame(fs);
+    return take();
+  };
+  at(8, 2);
+  air.visibility_m = 12000.0;
+  fx.context->set_atmosphere(air);
+  const AtmoStateHash asked = take();
+  EXPECT_EQ(at(9, 2).parts[ATMO_STATE_HASH_AIR], asked.parts[ATMO_STATE_HASH_AIR]) << "not yet";
+  EXPECT_NE(at(10, 2).parts[ATMO_STATE_HASH_AIR], asked.parts[ATMO_STATE_HASH_AIR]) << "switched at 8 + 2";
+  auto wild = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
+  wild.utc_posix_s = kStartUtc;
+  wild.deferred_frames = 200000;
+  EXPECT_EQ(fx.plugin->api().set_frame(fx.context->handle(), &wild), ATMO_ERROR_OUT_OF_RANGE);
   // A smaller (older) struct is refused like any other.
   AtmoStateHash small = atmo::make<AtmoStateHash>(ATMO_TYPE_STATE_HASH);
   small.header.struct_size = 8;

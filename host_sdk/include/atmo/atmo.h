@@ -262,6 +262,13 @@ typedef struct AtmoFrameState {
                                    degrades outside 1900-2100) */
   double dut1_s;                /* UT1 - UTC in seconds (IERS Bulletin A). Valid range [-0.9, 0.9]; 0 is fine
                                    for rendering */
+  /* --- Added with several channels (a 40-byte host struct reads these as 0) --- */
+  uint32_t deferred_frames;     /* frames between asking for work off the host's thread and its effect;
+                                   0: ATMO_DEFERRED_FRAMES. [1, 100 000]. The same on every channel. A frame that
+                                   comes before the work is done waits for it: a real-time host gives the
+                                   slowest work room (new tables ~0.4 s, a large deck's relight seconds on 2
+                                   cores: 60-120 frames at 60 Hz), a test a few frames (docs/MULTI_CHANNEL.md) */
+  uint32_t reserved;            /* 0 */
 } AtmoFrameState;
 
 typedef enum AtmoPositionKind {
@@ -902,7 +909,8 @@ typedef struct AtmoSkyOcclusion {
    (set_frame: time, host_frame_number) and the view's state, never of the wall clock, of thread timing or
    of the order in which views are drawn: work done off the host's thread (new atmosphere tables, the
    clouds' lighting) takes effect at a frame fixed when it was asked for, host_frame_number +
-   ATMO_DEFERRED_FRAMES, on every channel alike (the frame that reaches it first waits for the work). */
+   AtmoFrameState.deferred_frames (default ATMO_DEFERRED_FRAMES), on every channel alike (the frame that
+   reaches it first waits for the work). */
 #define ATMO_DEFERRED_FRAMES 8u
 
 /* The parts of AtmoStateHash.parts (which one differs tells what two channels disagree on). */

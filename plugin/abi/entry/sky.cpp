@@ -37,7 +37,9 @@ AtmoResult set_frame(AtmoContext context, const AtmoFrameState* state) {
                         ++ctx->set_frame_calls;
                         ctx->host_numbers_frames = ctx->host_numbers_frames || s.host_frame_number != 0;
                         ctx->frame_clock = ctx->host_numbers_frames ? s.host_frame_number : ctx->set_frame_calls - 1;
+                        ctx->deferred_frames = s.deferred_frames ? s.deferred_frames : ATMO_DEFERRED_FRAMES;
                         ctx->clouds.frame = ctx->frame_clock;  // when the clouds' jobs are due
+                        ctx->clouds.deferred_frames = ctx->deferred_frames;
                         ctx->have_frame = true;
                         return ATMO_SUCCESS;
                       });
