@@ -11,7 +11,8 @@
 //   - the host pass through the include: default flags (bounce, hybrid), ATMO_OCCLUSION_NO_BOUNCE,
 //     ATMO_OCCLUSION_OPTIMAL_LINEAR (each with its own set_occluders),
 //   - every pixel through the include compiled with ATMO_OCC_IMAGE: the plugin's image pass
-//     (ATMO_PASS_SKY_OCCLUSION_IMAGE, an eighth and a quarter across) + the host pass reading it, the two
+//     (ATMO_PASS_SKY_OCCLUSION_IMAGE, an eighth, a quarter and a sixteenth across, and an eighth with
+//     ATMO_PASS_SKY_OCCLUSION_NO_SUN) + the host pass reading it, the two
 //     summed; its error against the include evaluated at every pixel: the sky's and the bounce's light
 //     (p50/p95 of |image - exact| / the open sky, green, over the pixels where the objects change it by 1 % or
 //     more) and the Sun's visibility (p50/p95 of |image - exact| over the pixels where either is below 0.99),
@@ -438,7 +439,8 @@ int main(int argc, char** argv) {
                       "image_eighth_sky_error_p50,image_eighth_sky_error_p95,image_quarter_sky_error_p50,image_quarter_sky_error_p95,"
                       "image_eighth_sun_error_p50,image_eighth_sun_error_p95,image_quarter_sun_error_p50,"
                       "image_quarter_sun_error_p95,image_sixteenth_ratio_to_pair,image_sixteenth_sky_error_p50,"
-                      "image_sixteenth_sky_error_p95,image_sixteenth_sun_error_p50,image_sixteenth_sun_error_p95\n");
+                      "image_sixteenth_sky_error_p95,image_sixteenth_sun_error_p50,image_sixteenth_sun_error_p95,"
+                      "image_eighth_no_sun_ratio_to_pair\n");
   std::printf("== %dx%d, %s, %d timed frames a case (wall time to glFinish, median) ==\n", width, height,
               gl->renderer().c_str(), common.frames);
   // x_pair: the include pass / the pair, median of the frames' ratios (each frame's pair timed before and after
@@ -467,7 +469,7 @@ int main(int argc, char** argv) {
       }
       std::vector<double> pair, pair_extremes, triv, plain_ms, inc, ratio, added, pair_q, inc_q, poses_cpu, get_cpu;
       std::vector<double> pass_ratio[3], error_p50[6], error_p95[6];
-      std::vector<double> image_ratio[3], image_pass_ratio, image_host_ratio, image_p50[3], image_p95[3];
+      std::vector<double> image_ratio[4], image_pass_ratio, image_host_ratio, image_p50[3], image_p95[3];
       std::vector<double> image_sun_p50[3], image_sun_p95[3];
       std::vector<double> moved(16 * a.poses.size());
       uint32_t longest = 0;
@@ -530,10 +532,12 @@ int main(int argc, char** argv) {
           full_screen(answer);
           glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, exact_rgba.data());
         }
-        double image_ms[3] = {0.0, 0.0, 0.0}, image_pass_ms = 0.0, image_host_ms = 0.0;
-        for (int i = 0; i < 3; ++i) {
-          const uint32_t resolution[3] = {ATMO_PASS_SKY_OCCLUSION_EIGHTH_RES, ATMO_PASS_SKY_OCCLUSION_QUARTER_RES,
-                                          ATMO_PASS_SKY_OCCLUSION_SIXTEENTH_RES};
+        double image_ms[4] = {0.0, 0.0, 0.0, 0.0}, image_pass_ms = 0.0, image_host_ms = 0.0;
+        for (int i = 0; i < 4; ++i) {
+          // 3: an eighth across without the Sun's visibility (the host's shadow maps give the Sun's shadow).
+          const uint32_t resolution[4] = {ATMO_PASS_SKY_OCCLUSION_EIGHTH_RES, ATMO_PASS_SKY_OCCLUSION_QUARTER_RES,
+                                          ATMO_PASS_SKY_OCCLUSION_SIXTEENTH_RES,
+                                          ATMO_PASS_SKY_OCCLUSION_EIGHTH_RES | ATMO_PASS_SKY_OCCLUSION_NO_SUN};
           const uint32_t flags = ATMO_PASS_SKY_OCCLUSION_IMAGE | ATMO_PASS_SKY_OCCLUSION_NORMAL_UP | resolution[i];
           const double pass_ms = timer([&] { view.render(ATMO_PASS_SKY_OCCLUSION, flags); }, &unused);
           AtmoSkyOcclusion with_image = atmo::make<AtmoSkyOcclusion>(ATMO_TYPE_SKY_OCCLUSION);
@@ -550,7 +554,7 @@ int main(int argc, char** argv) {
             image_pass_ms = pass_ms;
             image_host_ms = host_ms;
           }
-          if (!image_error) continue;
+          if (!image_error || i == 3) continue;
           {
             glUseProgram(answer_image);
             const atmo::host_scene::SkyOcclusionBinding answer_binding(answer_image, with_image, 5);
@@ -621,7 +625,7 @@ int main(int argc, char** argv) {
         poses_cpu.push_back(t1 - t0);
         get_cpu.push_back(t2 - t1);
         for (int r = 0; r < 3; ++r) pass_ratio[r].push_back(pass_ms[r] / pair_ms);  // with the Sun
-        for (int i = 0; i < 3; ++i) image_ratio[i].push_back(image_ms[i] / pair_ms);
+        for (int i = 0; i < 4; ++i) image_ratio[i].push_back(image_ms[i] / pair_ms);
         image_pass_ratio.push_back(image_pass_ms / pair_ms);
         image_host_ratio.push_back(image_host_ms / pair_ms);
       }
@@ -649,7 +653,7 @@ int main(int argc, char** argv) {
         for (std::string sweep; std::getline(sweeps, sweep, '+');)
           std::fprintf(csv,
                        "%s,%d,%d,%s,%.2f,%.3f,%.2f,%.2f,%.2f,%.4f,%.4f,%.2f,%.2f,%u,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.5f,"
-                       "%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.4f,%.4f,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.5f,%.5f,%.5f,%.5f\n",
+                       "%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.4f,%.4f,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.4f,%.5f,%.5f,%.5f,%.5f,%.4f\n",
                        sweep.c_str(), c.objects, c.spheres, mode.name, p, spread, t, pl, in, x, ax, median(pair_q),
                        median(inc_q), longest, pc, gc, pc + gc, px[0], px[1], px[2], med(error_p50[1]),
                        med(error_p95[1]), med(error_p50[2]), med(error_p95[2]), med(error_p50[4]), med(error_p95[4]),
@@ -657,7 +661,7 @@ int main(int argc, char** argv) {
                        med(image_ratio[0]), med(image_ratio[1]), med(image_p50[0]), med(image_p95[0]), med(image_p50[1]),
                        med(image_p95[1]), med(image_sun_p50[0]), med(image_sun_p95[0]), med(image_sun_p50[1]),
                        med(image_sun_p95[1]), med(image_ratio[2]), med(image_p50[2]), med(image_p95[2]),
-                       med(image_sun_p50[2]), med(image_sun_p95[2]));
+                       med(image_sun_p50[2]), med(image_sun_p95[2]), med(image_ratio[3]));
         std::fflush(csv);
       }
     }

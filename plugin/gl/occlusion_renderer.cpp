@@ -66,11 +66,12 @@ constexpr int kUnitsUsed = static_cast<int>(kTileObjectsUnit) + 1;
 static_assert(kUnitsUsed <= GlStateGuard::kMaxUnits, "the guard saves every unit the pass binds");
 }  // namespace
 
-bool OcclusionRenderer::build_program(bool bounce, Mode mode, std::string* error) {
-  GLuint& program = programs_[mode][bounce ? 1 : 0];
+bool OcclusionRenderer::build_program(bool bounce, Mode mode, std::string* error, bool no_sun) {
+  GLuint& program = no_sun ? image_no_sun_programs_[bounce ? 1 : 0] : programs_[mode][bounce ? 1 : 0];
   if (!program) {
     const char* mode_define[3] = {"", "#define ATMO_OCC_REDUCED\n", "#define ATMO_OCC_IMAGE_PREPARE\n"};
-    const std::string defines = std::string(bounce ? "" : "#define ATMO_OCC_NO_BOUNCE\n") + mode_define[mode];
+    const std::string defines = std::string(bounce ? "" : "#define ATMO_OCC_NO_BOUNCE\n") + mode_define[mode] +
+                                (no_sun ? "#define ATMO_OCC_NO_SUN\n" : "");
     program = gl::build_program("fullscreen.vert", "sky_occlusion.frag", defines, error);
     if (!program) return false;
   }
@@ -183,7 +184,7 @@ bool OcclusionRenderer::ensure_image(Image* image, int width, int height, std::s
 }
 
 bool OcclusionRenderer::draw_image(const PassInputs& in, const shadows::OcclusionFrame& frame, uint64_t view_key,
-                                   bool normal_up, int reduction, std::string* error) {
+                                   bool normal_up, int reduction, bool no_sun, std::string* error) {
   GlStateGuard guard(kUnitsUsed);
   for (uint64_t key : retired_) {
     auto it = images_.find(key);
@@ -194,7 +195,7 @@ bool OcclusionRenderer::draw_image(const PassInputs& in, const shadows::Occlusio
     images_.erase(it);
   }
   retired_.clear();
-  if (!build_program(frame_has_bounce(frame), kImage, error) || !upload(frame, error)) return false;
+  if (!build_program(frame_has_bounce(frame), kImage, error, no_sun) || !upload(frame, error)) return false;
   Image& image = images_[view_key];
   const int w = (in.viewport[2] + reduction - 1) / reduction, h = (in.viewport[3] + reduction - 1) / reduction;
   if (!ensure_image(&image, w, h, error)) return false;
@@ -276,6 +277,8 @@ void OcclusionRenderer::destroy() {
     for (GLuint p : row)
       if (p) glDeleteProgram(p);
   if (upsample_program_) glDeleteProgram(upsample_program_);
+  for (GLuint p : image_no_sun_programs_)
+    if (p) glDeleteProgram(p);
   if (reduced_texture_) glDeleteTextures(1, &reduced_texture_);
   if (reduced_fbo_) glDeleteFramebuffers(1, &reduced_fbo_);
   for (auto& [key, image] : images_) {
@@ -292,6 +295,7 @@ void OcclusionRenderer::destroy() {
 void OcclusionRenderer::forget() {
   tables_ = spheres_ = objects_ = tiles_ = tile_objects_ = 0;
   for (auto& row : programs_) row[0] = row[1] = 0;
+  image_no_sun_programs_[0] = image_no_sun_programs_[1] = 0;
   images_.clear();
   retired_.clear();
   upsample_program_ = reduced_fbo_ = reduced_texture_ = 0;

@@ -36,8 +36,9 @@ class OcclusionRenderer {
     int width = 0, height = 0;
     float map[4] = {0.0f, 0.0f, 0.0f, 0.0f};  // atmo_occ_image_map
   };
+  // no_sun: the image holds no Sun visibility (1: ATMO_PASS_SKY_OCCLUSION_NO_SUN; the sun's part compiled out).
   bool draw_image(const PassInputs& in, const shadows::OcclusionFrame& frame, uint64_t view_key, bool normal_up,
-                  int reduction, std::string* error);
+                  int reduction, bool no_sun, std::string* error);
   const Image* image(uint64_t view_key) const;
   // The view is gone: its image is freed by the next draw_image (GL current then).
   void retire_view(uint64_t view_key) { retired_.push_back(view_key); }
@@ -51,13 +52,14 @@ class OcclusionRenderer {
 
  private:
   enum Mode { kEveryPixel = 0, kReduced = 1, kImage = 2 };
-  bool build_program(bool bounce, Mode mode, std::string* error);
+  bool build_program(bool bounce, Mode mode, std::string* error, bool no_sun = false);
   void bind_inputs(const PassInputs& in, const shadows::OcclusionFrame& frame, bool normal_up, bool no_sun);
   bool ensure_image(Image* image, int width, int height, std::string* error);
   bool ensure_reduced_target(int width, int height, std::string* error);
   GLuint tables_ = 0, spheres_ = 0, objects_ = 0, tiles_ = 0, tile_objects_ = 0;
   // The programs: [Mode][bounce] (the bounce compiled out for ATMO_OCCLUSION_NO_BOUNCE), and the upsampling.
   GLuint programs_[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+  GLuint image_no_sun_programs_[2] = {0, 0};  // kImage with ATMO_OCC_NO_SUN, [bounce]
   std::map<uint64_t, Image> images_;  // by view
   std::vector<uint64_t> retired_;
   GLuint upsample_program_ = 0, reduced_fbo_ = 0, reduced_texture_ = 0;

@@ -504,7 +504,8 @@ typedef enum AtmoPassFlags {
      compiled with ATMO_OCC_IMAGE reads (AtmoSkyOcclusion.image: call get_sky_occlusion after this pass);
      the host's framebuffer is not touched. For a host that shades every pixel through the include at the
      cost of a few texture reads: after its depth (a depth pre-pass or a G-buffer), before its shading.
-     Not with NO_SUN (the image holds the Sun's visibility; the host may ignore it). docs/SKY_OCCLUSION.md. */
+     With NO_SUN the image holds no Sun visibility (1; its edges would move by up to a block anyway: take the
+     Sun's shadow from the host's shadow maps), a fifth cheaper. docs/SKY_OCCLUSION.md. */
   ATMO_PASS_SKY_OCCLUSION_IMAGE = 16u,
   ATMO_PASS_SKY_OCCLUSION_SIXTEENTH_RES = 32u
 } AtmoPassFlags;

@@ -40,6 +40,8 @@
 //   no object near: multiply your own sun term, or your shadow map's, by it).
 //   #define ATMO_OCC_NO_BOUNCE before the include compiles the bounce out (about
 //   half the cost: a uniform flag does not skip it on every GPU); bounce_lux is 0.
+//   #define ATMO_OCC_NO_SUN compiles the Sun's visibility out (a fifth to a third
+//   of the cost; for a host whose shadow maps give the Sun's shadow): it is 1.
 //   A surface of an object itself is a receiver too: its own spheres that
 //   contain the point or lie behind its tangent plane are left out.
 //
@@ -389,7 +391,9 @@ ATMO_OCC_FN void atmo_occ_add_sphere(vec4 sphere_rel, vec3 n, AtmoOccSh rho, vec
   float u = theta / (0.5f * ATMO_OCC_PI);
   AtmoOccSh g = atmo_occ_rotate(atmo_occ_table(u, 0.0f) * w, y);
   vec4 sun = atmo_occ_sun_value();
+#ifndef ATMO_OCC_NO_SUN
   if (sun_too) sun_v *= 1.0f - w * atmo_occ_sun_cover(theta, dot(omega, vec3(sun.x, sun.y, sun.z)), limits.w);
+#endif
   if (bounce) {
     // The part of the sky this sphere hides and no sphere before it: exp(sum before) - exp(sum with it).
     AtmoOccSh next = atmo_occ_exp_linear(atmo_occ_add(log_v, g, 1.0f));
@@ -415,6 +419,9 @@ ATMO_OCC_FN void atmo_occ_add_sphere(vec4 sphere_rel, vec3 n, AtmoOccSh rho, vec
 // The Sun's cover alone by spheres [first, first + count) (weight w): a stand-in is a blob in the sky, not the
 // object's shadow, so where the Sun's ray meets a stand-in's bound its spheres cast the Sun's shadow.
 ATMO_OCC_FN void atmo_occ_sun_spheres(uint first, uint count, vec3 p, vec3 n, float w, INOUT(float) sun_v) {
+#ifdef ATMO_OCC_NO_SUN
+  return;  // compiled out: the host's shadow maps give the Sun's shadow
+#endif
   vec4 sun = atmo_occ_sun_value();
   vec3 s_dir = vec3(sun.x, sun.y, sun.z);
   float sun_rad = atmo_occ_limits_value().w;

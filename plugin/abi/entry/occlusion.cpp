@@ -131,7 +131,8 @@ AtmoResult sky_occlusion_pass(AtmoContext_T* ctx, AtmoView_T* view, const core::
   if (flags & ATMO_PASS_SKY_OCCLUSION_IMAGE) {
     const int image_reduction = reduction > 1 ? reduction : 8;  // the image's default: 8 x 8
     if (!ctx->occlusion_renderer.draw_image(inputs, frame, view->serial,
-                                            (flags & ATMO_PASS_SKY_OCCLUSION_NORMAL_UP) != 0, image_reduction, &error))
+                                            (flags & ATMO_PASS_SKY_OCCLUSION_NORMAL_UP) != 0, image_reduction,
+                                            (flags & ATMO_PASS_SKY_OCCLUSION_NO_SUN) != 0, &error))
       return fail(ctx, ATMO_ERROR_GL, "render_pass(ATMO_PASS_SKY_OCCLUSION, IMAGE)", error);
     view->occlusion_image_state_serial = view->state_serial;
     view->occlusion_image_reduction = image_reduction;

@@ -55,14 +55,11 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
                                                                 ATMO_PASS_SKY_OCCLUSION_EIGHTH_RES |
                                                                 ATMO_PASS_SKY_OCCLUSION_SIXTEENTH_RES);
                      const bool two_resolutions = (resolutions & (resolutions - 1)) != 0;
-                     const uint32_t image_no_sun = ATMO_PASS_SKY_OCCLUSION_IMAGE | ATMO_PASS_SKY_OCCLUSION_NO_SUN;
-                     if ((pass.flags & ~takes) || two_resolutions || (pass.flags & image_no_sun) == image_no_sun) {
+                     if ((pass.flags & ~takes) || two_resolutions) {
                        return fail(ctx, ATMO_ERROR_INVALID_ARGUMENT, "render_pass",
                                    "AtmoPassInfo.flags = " + std::to_string(pass.flags) +
                                        ((pass.flags & ~takes) ? " holds bits this pass does not take"
-                                        : two_resolutions    ? " asks for two resolutions"
-                                                                        : " asks for the image without the Sun (the "
-                                                                          "image holds it; ignore it instead)"));
+                                                               : " asks for two resolutions"));
                      }
                      if (AtmoResult r = require_frame_and_view(ctx, *view, "render_pass", true)) return r;
 
