@@ -165,6 +165,10 @@ void BM_NewAirLatency(benchmark::State& state) {
     abi.context.set_atmosphere(air);
     for (;;) {
       ++polls;
+      // Each poll is a host frame (a 1 kHz host): the new air is due ATMO_DEFERRED_FRAMES frames after it was
+      // asked for, and that frame waits for the build if it is not done.
+      ++abi.frame.host_frame_number;
+      abi.context.set_frame(abi.frame);
       const double now = abi.view.lighting().sun_illuminance_lux[1];
       if (now != previous) {
         previous = now;
