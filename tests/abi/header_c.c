@@ -4,7 +4,7 @@
 
 int atmo_header_compiles(void);
 int atmo_header_compiles(void) {
-  AtmoFrameState frame = {ATMO_HEADER(ATMO_TYPE_FRAME_STATE, AtmoFrameState), 0, 0.0, 0.0};
+  AtmoFrameState frame = {ATMO_HEADER(ATMO_TYPE_FRAME_STATE, AtmoFrameState), 0, 0.0, 0.0, 0, 0};
   PFN_atmo_negotiate negotiate = 0;
   (void)negotiate;
   return (int)frame.header.struct_size;

@@ -292,7 +292,7 @@ CheckResult check_state_structs(const std::string& path) {
 
   // Undersized: every state struct at 8 bytes less than version 1.
   auto f2 = frame;
-  f2.header.struct_size -= 8;
+  f2.header.struct_size = 32;  // 8 bytes short of the version-1 layout (40); deferred_frames after it is optional
   if (!(why = expect(s.plugin, api.set_frame(s.context, &f2), ATMO_ERROR_STRUCT_TOO_SMALL, "undersized AtmoFrameState")).empty())
     return fail(why);
   auto v2 = view;
