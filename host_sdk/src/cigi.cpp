@@ -1006,6 +1006,11 @@ PluginState to_plugin(const EnvironmentState& env, const MappingInputs& in) {
       out.notes.push_back(name + ": top " + num(top) + " m clamped to 20000 m");
       top = kMaxHeight;
     }
+    if (!(top > base)) {  // a thickness lost in the base's rounding (found by fuzz_cigi)
+      out.notes.push_back(name + ": thickness " + num(w.thickness_m) + " m does not lift the top above the base: "
+                          "not drawn");
+      continue;
+    }
     AtmoCloudLayer& c = out.cloud_layers[out.cloud_layer_count++];
     c = AtmoCloudLayer{};
     c.header.type = ATMO_TYPE_CLOUD_LAYER;

@@ -271,6 +271,13 @@ TEST(CigiMapping, CloudLayersThePluginCannotDrawAreNamed) {
   EXPECT_TRUE(has_note(s, "cloud layer 2: cloud type 12"));
   EXPECT_TRUE(has_note(s, "cloud layer 3: thickness 0"));
 
+  // A thickness below the base's rounding: top == base (found by fuzz_cigi).
+  c::EnvironmentState thin;
+  thin.apply(cloud(1, c::kStratus, 50, 1200.008f, 1.5e-38f));
+  s = c::to_plugin(thin, in);
+  EXPECT_EQ(s.cloud_layer_count, 0u);
+  EXPECT_TRUE(has_note(s, "does not lift the top above the base"));
+
   c::EnvironmentState high;
   high.apply(cloud(1, c::kCirrus, 50, 19000, 3000));  // top clamped
   high.apply(cloud(2, c::kCumulus, 50, 100, 500));    // base below the origin
