@@ -136,9 +136,9 @@ DecodeError make_error(uint8_t major, uint32_t id, size_t offset, std::string fi
   e.packet_id = id;
   e.offset = offset;
   e.field = std::move(field);
-  const char* name = id == kNoPacketId ? "" : packet_name(major, id);
+  const char* name = id == kNoPacketId || major == 0 ? "" : packet_name(major, id);
   std::ostringstream s;
-  s << "CIGI " << int(major) << ": " << (*name ? std::string(name) + " (" + id_text(id) + ")" : id_text(id))
+  s << "CIGI" << (major ? " " + std::to_string(major) : std::string()) << ": " << (*name ? std::string(name) + " (" + id_text(id) + ")" : id_text(id))
     << " at byte " << offset << ": field '" << e.field << "': " << what;
   e.message = s.str();
   return e;
@@ -443,7 +443,8 @@ DecodeResult decode(const uint8_t* data, size_t size) {
     out.log.clear();
     return out;
   };
-  if (data == nullptr || size == 0) return refuse(make_error(3, kNoPacketId, 0, "datagram", "empty datagram"));
+  // major 0 in an error: the version is not known yet.
+  if (data == nullptr || size == 0) return refuse(make_error(0, kNoPacketId, 0, "datagram", "empty datagram"));
 
   // The version and byte order come from the first packet, which must be an
   // IG Control: CIGI 3.x has id 1 in byte 0 and the major version in byte 2;
@@ -470,9 +471,10 @@ DecodeResult decode(const uint8_t* data, size_t size) {
     }
   } else {
     std::ostringstream s;
-    s << "the first packet must be an IG Control (CIGI 3: id 1, CIGI 4.0: size 24 and id 0); the datagram starts";
-    for (size_t i = 0; i < std::min<size_t>(size, 4); ++i) s << ' ' << hex2(data[i]);
-    return refuse(make_error(3, kNoPacketId, 0, "IG Control", s.str()));
+    s << "the first packet must be an IG Control (CIGI 3: id 1, version 3; CIGI 4.0: size 24, id 0, version 4); the "
+      << size << "-byte datagram starts";
+    for (size_t i = 0; i < std::min<size_t>(size, 5); ++i) s << ' ' << hex2(data[i]);
+    return refuse(make_error(0, kNoPacketId, 0, "IG Control", s.str()));
   }
 
   const size_t header = major == 3 ? 2 : 4;

@@ -469,6 +469,14 @@ TEST(CigiDecode, RefusesAMessageNotStartingWithIgControl) {
   EXPECT_EQ(e.field, "IG Control");
   EXPECT_NE(e.message.find("the first packet must be an IG Control"), std::string::npos) << e.message;
   EXPECT_EQ(refused({}).field, "datagram");
+  const c::DecodeError one = refused({0x01});  // too short to say its version
+  EXPECT_EQ(one.field, "IG Control");
+  EXPECT_NE(one.message.find("CIGI: packet at byte 0: field 'IG Control'"), std::string::npos) << one.message;
+  EXPECT_NE(one.message.find("the 1-byte datagram starts 0x01"), std::string::npos) << one.message;
+  // A CIGI 2 IG Control (id 1, 16 bytes, version 2).
+  const c::DecodeError v2 = refused({0x01, 0x10, 0x02, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+  EXPECT_NE(v2.message.find("version 2; only CIGI 3 (3.2, 3.3) and 4.0 are decoded"), std::string::npos)
+      << v2.message;
 }
 
 TEST(CigiDecode, RefusesNonFiniteNumbers) {
