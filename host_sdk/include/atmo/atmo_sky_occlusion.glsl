@@ -225,16 +225,71 @@ uniform vec4 atmo_occ_image_map;       // the window pixel of texel (0, 0)'s eva
 uniform mat3 atmo_occ_enu_from_world;  // the eye's ENU axes from the view's world axes
 uniform vec3 atmo_occ_sky_sh9[9];      // the sky's irradiance, SH9, lux
 
+vec3 atmo_occ_sky_sh9_at(int k) { return atmo_occ_sky_sh9[k]; }
+#else
+uniform sampler2D atmo_occ_tables;         // RGBA32F, 256 x 3: log cap, form factor (by theta), (a, b) (by |f^|)
+uniform sampler2D atmo_occ_spheres;        // RGBA32F: a sphere a texel (centre ENU relative to the eye m, radius m),
+                                           // then 3 texels a group (bound, stand-in, first sphere and count); 1024 a row
+uniform sampler2D atmo_occ_objects;        // RGBA32F: 4 texels an object (see atmo_occ_object), 256 a row
+uniform usampler2D atmo_occ_tiles;         // RG32UI: per screen tile, its first object in atmo_occ_tile_objects and count
+uniform usampler2D atmo_occ_tile_objects;  // R32UI: object indices, 4096 a row
+uniform mat4 atmo_occ_tile_from_position;  // clip from the position relative to the eye (world axes)
+uniform mat3 atmo_occ_enu_from_world;      // the eye's ENU axes from the view's world axes
+uniform vec4 atmo_occ_grid;                // tiles across, tiles up, |f^| of the (a, b) row's end, flags (1 bounce, 2 hybrid)
+uniform vec4 atmo_occ_limits;              // sin theta below which a sphere is left out, sin theta of an object's
+                                           // bound below which it is one sphere, that times the blend, the Sun's radius rad
+uniform vec4 atmo_occ_sun;                 // unit direction to the Sun, ENU; 0
+uniform vec3 atmo_occ_sun_lux;             // the Sun's illuminance facing it (for the bounce)
+uniform vec3 atmo_occ_sky_sh9[9];          // the sky's irradiance, SH9, lux
+uniform vec3 atmo_occ_sun_sh9[9];          // the Sun's irradiance on an object's surface by normal, SH9, lux
+uniform vec4 atmo_occ_transfer[108];       // the sky's product matrix against the cosine (see AtmoSkyOcclusion)
+
+vec4 atmo_occ_table(float u, float row) {
+  return texture(atmo_occ_tables, vec2(atmo_occ_grid_coordinate(u, ATMO_OCC_TABLE_SIZE), (row + 0.5) / ATMO_OCC_TABLE_ROWS));
+}
+vec4 atmo_occ_sphere(uint i) { return texelFetch(atmo_occ_spheres, ivec2(int(i % 1024u), int(i / 1024u)), 0); }
+vec4 atmo_occ_object(uint i, int k) {
+  return texelFetch(atmo_occ_objects, ivec2(4 * int(i % 256u) + k, int(i / 256u)), 0);
+}
+uvec2 atmo_occ_tile_list(vec3 position_rel_eye_m) {
+  vec4 clip = atmo_occ_tile_from_position * vec4(position_rel_eye_m, 1.0);
+  if (!(clip.w > 1.0e-6)) return uvec2(0u, 0u);
+  vec2 ndc = clamp(clip.xy / clip.w, -1.0, 1.0);
+  ivec2 tile = ivec2(min(floor((ndc * 0.5 + 0.5) * atmo_occ_grid.xy), atmo_occ_grid.xy - 1.0));
+  return texelFetch(atmo_occ_tiles, tile, 0).xy;
+}
+uint atmo_occ_tile_object(uint entry) {
+  return texelFetch(atmo_occ_tile_objects, ivec2(int(entry % 4096u), int(entry / 4096u)), 0).r;
+}
+vec4 atmo_occ_transfer_at(int k) { return atmo_occ_transfer[k]; }
+vec3 atmo_occ_sky_sh9_at(int k) { return atmo_occ_sky_sh9[k]; }
+vec3 atmo_occ_sun_sh9_at(int k) { return atmo_occ_sun_sh9[k]; }
+vec4 atmo_occ_grid_value() { return atmo_occ_grid; }
+vec4 atmo_occ_limits_value() { return atmo_occ_limits; }
+vec4 atmo_occ_sun_value() { return atmo_occ_sun; }
+mat3 atmo_occ_enu_from_world_value() { return atmo_occ_enu_from_world; }
+#endif  // ATMO_OCC_IMAGE
+#endif  // ATMO_OCC_NO_UNIFORMS
+#endif  // ATMO_TWIN
+#endif  // ATMO_OCC_HELPERS
+
+#ifndef ATMO_OCC_NO_UNIFORMS
+// The sky's irradiance: its SH9 (atmo_occ_sky_sh9, lux) against the first 9 coefficients of f.
+ATMO_OCC_FN vec3 atmo_occ_sky_irradiance(AtmoOccSh f) {
+  return atmo_occ_sky_sh9_at(0) * f.a.x + atmo_occ_sky_sh9_at(1) * f.a.y + atmo_occ_sky_sh9_at(2) * f.a.z +
+         atmo_occ_sky_sh9_at(3) * f.a.w + atmo_occ_sky_sh9_at(4) * f.b.x + atmo_occ_sky_sh9_at(5) * f.b.y +
+         atmo_occ_sky_sh9_at(6) * f.b.z + atmo_occ_sky_sh9_at(7) * f.b.w + atmo_occ_sky_sh9_at(8) * f.c.x;
+}
+#endif
+
+#if !defined(ATMO_OCC_NO_UNIFORMS) && defined(ATMO_OCC_IMAGE) && !defined(ATMO_TWIN)
 // The image's texels around this fragment, blended bilinearly among those on the fragment's own surface (their
 // distance within 2 % of its own; none beyond 10 %) so no object's shadow bleeds across a silhouette; where none
 // is, the nearest in distance; where the image has no surface there, the open sky.
 AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 normal_world) {
   vec3 n = normalize(atmo_occ_enu_from_world * normal_world);
   AtmoOccSh y = atmo_occ_basis(n);
-  vec3 open = max(atmo_occ_sky_sh9[0] * y.a.x + atmo_occ_sky_sh9[1] * y.a.y + atmo_occ_sky_sh9[2] * y.a.z +
-                      atmo_occ_sky_sh9[3] * y.a.w + atmo_occ_sky_sh9[4] * y.b.x + atmo_occ_sky_sh9[5] * y.b.y +
-                      atmo_occ_sky_sh9[6] * y.b.z + atmo_occ_sky_sh9[7] * y.b.w + atmo_occ_sky_sh9[8] * y.c.x,
-                  vec3(0.0));
+  vec3 open = max(atmo_occ_sky_irradiance(y), vec3(0.0));
   vec2 size = vec2(textureSize(atmo_occ_image2, 0));
   vec2 at = (gl_FragCoord.xy - atmo_occ_image_map.xy) / atmo_occ_image_map.z;  // in texels from texel (0, 0)
   vec2 base = floor(at);
@@ -288,52 +343,7 @@ AtmoSkyOcclusion atmo_sky_occlusion(vec3 position_rel_eye_m, vec3 normal_world) 
   }
   return atmo_occ_from_fit(fit, n, open);
 }
-#else
-uniform sampler2D atmo_occ_tables;         // RGBA32F, 256 x 3: log cap, form factor (by theta), (a, b) (by |f^|)
-uniform sampler2D atmo_occ_spheres;        // RGBA32F: a sphere a texel (centre ENU relative to the eye m, radius m),
-                                           // then 3 texels a group (bound, stand-in, first sphere and count); 1024 a row
-uniform sampler2D atmo_occ_objects;        // RGBA32F: 4 texels an object (see atmo_occ_object), 256 a row
-uniform usampler2D atmo_occ_tiles;         // RG32UI: per screen tile, its first object in atmo_occ_tile_objects and count
-uniform usampler2D atmo_occ_tile_objects;  // R32UI: object indices, 4096 a row
-uniform mat4 atmo_occ_tile_from_position;  // clip from the position relative to the eye (world axes)
-uniform mat3 atmo_occ_enu_from_world;      // the eye's ENU axes from the view's world axes
-uniform vec4 atmo_occ_grid;                // tiles across, tiles up, |f^| of the (a, b) row's end, flags (1 bounce, 2 hybrid)
-uniform vec4 atmo_occ_limits;              // sin theta below which a sphere is left out, sin theta of an object's
-                                           // bound below which it is one sphere, that times the blend, the Sun's radius rad
-uniform vec4 atmo_occ_sun;                 // unit direction to the Sun, ENU; 0
-uniform vec3 atmo_occ_sun_lux;             // the Sun's illuminance facing it (for the bounce)
-uniform vec3 atmo_occ_sky_sh9[9];          // the sky's irradiance, SH9, lux
-uniform vec3 atmo_occ_sun_sh9[9];          // the Sun's irradiance on an object's surface by normal, SH9, lux
-uniform vec4 atmo_occ_transfer[108];       // the sky's product matrix against the cosine (see AtmoSkyOcclusion)
-
-vec4 atmo_occ_table(float u, float row) {
-  return texture(atmo_occ_tables, vec2(atmo_occ_grid_coordinate(u, ATMO_OCC_TABLE_SIZE), (row + 0.5) / ATMO_OCC_TABLE_ROWS));
-}
-vec4 atmo_occ_sphere(uint i) { return texelFetch(atmo_occ_spheres, ivec2(int(i % 1024u), int(i / 1024u)), 0); }
-vec4 atmo_occ_object(uint i, int k) {
-  return texelFetch(atmo_occ_objects, ivec2(4 * int(i % 256u) + k, int(i / 256u)), 0);
-}
-uvec2 atmo_occ_tile_list(vec3 position_rel_eye_m) {
-  vec4 clip = atmo_occ_tile_from_position * vec4(position_rel_eye_m, 1.0);
-  if (!(clip.w > 1.0e-6)) return uvec2(0u, 0u);
-  vec2 ndc = clamp(clip.xy / clip.w, -1.0, 1.0);
-  ivec2 tile = ivec2(min(floor((ndc * 0.5 + 0.5) * atmo_occ_grid.xy), atmo_occ_grid.xy - 1.0));
-  return texelFetch(atmo_occ_tiles, tile, 0).xy;
-}
-uint atmo_occ_tile_object(uint entry) {
-  return texelFetch(atmo_occ_tile_objects, ivec2(int(entry % 4096u), int(entry / 4096u)), 0).r;
-}
-vec4 atmo_occ_transfer_at(int k) { return atmo_occ_transfer[k]; }
-vec3 atmo_occ_sky_sh9_at(int k) { return atmo_occ_sky_sh9[k]; }
-vec3 atmo_occ_sun_sh9_at(int k) { return atmo_occ_sun_sh9[k]; }
-vec4 atmo_occ_grid_value() { return atmo_occ_grid; }
-vec4 atmo_occ_limits_value() { return atmo_occ_limits; }
-vec4 atmo_occ_sun_value() { return atmo_occ_sun; }
-mat3 atmo_occ_enu_from_world_value() { return atmo_occ_enu_from_world; }
 #endif  // ATMO_OCC_IMAGE
-#endif  // ATMO_OCC_NO_UNIFORMS
-#endif  // ATMO_TWIN
-#endif  // ATMO_OCC_HELPERS
 
 #if !defined(ATMO_OCC_NO_UNIFORMS) && !defined(ATMO_OCC_IMAGE)
 // exp*(f) by Ren's optimal linear form: exp(f_0 / sqrt(4 pi)) (a(|f^|) 1 + b(|f^|) f^).
@@ -361,10 +371,7 @@ ATMO_OCC_FN AtmoOccSh atmo_occ_exp_hybrid(AtmoOccSh f) {
 
 // sum_k sh9_k f_k over the first 9 coefficients of f: the sky's (which 0) or the Sun's (1) irradiance SH9.
 ATMO_OCC_FN vec3 atmo_occ_sh9_dot(int which, AtmoOccSh f) {
-  if (which == 0)
-    return atmo_occ_sky_sh9_at(0) * f.a.x + atmo_occ_sky_sh9_at(1) * f.a.y + atmo_occ_sky_sh9_at(2) * f.a.z +
-           atmo_occ_sky_sh9_at(3) * f.a.w + atmo_occ_sky_sh9_at(4) * f.b.x + atmo_occ_sky_sh9_at(5) * f.b.y +
-           atmo_occ_sky_sh9_at(6) * f.b.z + atmo_occ_sky_sh9_at(7) * f.b.w + atmo_occ_sky_sh9_at(8) * f.c.x;
+  if (which == 0) return atmo_occ_sky_irradiance(f);
   return atmo_occ_sun_sh9_at(0) * f.a.x + atmo_occ_sun_sh9_at(1) * f.a.y + atmo_occ_sun_sh9_at(2) * f.a.z +
          atmo_occ_sun_sh9_at(3) * f.a.w + atmo_occ_sun_sh9_at(4) * f.b.x + atmo_occ_sun_sh9_at(5) * f.b.y +
          atmo_occ_sun_sh9_at(6) * f.b.z + atmo_occ_sun_sh9_at(7) * f.b.w + atmo_occ_sun_sh9_at(8) * f.c.x;
