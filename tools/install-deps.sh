@@ -17,6 +17,7 @@ PACKAGES=(
   colord-data
   kstars-data
   openmpi-bin libopenmpi-dev
+  libopenscenegraph-dev libpugixml-dev
 )
 
 missing=()
