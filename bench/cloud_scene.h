@@ -195,7 +195,7 @@ class Host {
     check(api_.set_view(view_, &vs), "set_view");
   }
 
-  AtmoResult render(AtmoPass pass) {
+  AtmoResult render(AtmoPassKind pass) {
     auto info = atmo::make<AtmoPassInfo>(ATMO_TYPE_PASS_INFO);
     info.pass = static_cast<uint32_t>(pass);
     AtmoResult r = api_.render_pass(view_, &info);
@@ -218,7 +218,7 @@ class Host {
   double clouds_ms(double* query_ms = nullptr) { return pass_ms(ATMO_PASS_CLOUDS, query_ms); }
 
   // One pass alone, timed as clouds_ms.
-  double pass_ms(AtmoPass pass, double* query_ms = nullptr) {
+  double pass_ms(AtmoPassKind pass, double* query_ms = nullptr) {
     glFinish();
     const auto start = std::chrono::steady_clock::now();
     glBeginQuery(GL_TIME_ELAPSED, query_);

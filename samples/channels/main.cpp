@@ -387,7 +387,7 @@ class ChannelProcess {
 
   void render_passes(Slot& slot) {
     const bool stars = !run_.scenario.night_sky || run_.scenario.night_sky->stars;
-    for (AtmoPass pass : {ATMO_PASS_SKY, ATMO_PASS_AERIAL_PERSPECTIVE, ATMO_PASS_NIGHT_SKY, ATMO_PASS_CLOUDS,
+    for (AtmoPassKind pass : {ATMO_PASS_SKY, ATMO_PASS_AERIAL_PERSPECTIVE, ATMO_PASS_NIGHT_SKY, ATMO_PASS_CLOUDS,
                           ATMO_PASS_LIGHT_GLOWS, ATMO_PASS_LIGHT_POINTS}) {
       if (pass == ATMO_PASS_NIGHT_SKY && !stars) continue;
       slot.view->render(pass);

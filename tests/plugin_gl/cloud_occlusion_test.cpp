@@ -48,7 +48,7 @@ AtmoLighting lighting_at(Fixture& f, double utc, double height_m) {
 // elevation in radians) through a 6 deg field (the Sun's disc ~6 pixels
 // across).
 Image draw(Fixture& f, double utc, double height_m, double azimuth_rad, double elevation_rad,
-           const std::vector<AtmoPass>& passes) {
+           const std::vector<AtmoPassKind>& passes) {
   auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
   frame.utc_posix_s = utc;
   f.context->set_frame(frame);
@@ -57,7 +57,7 @@ Image draw(Fixture& f, double utc, double height_m, double azimuth_rad, double e
   f.target->bind();
   glClearColor(0, 0, 0, 0);
   glClear(GL_COLOR_BUFFER_BIT);
-  for (AtmoPass p : passes) EXPECT_GE(f.view->render(p), 0) << f.context->last_error();
+  for (AtmoPassKind p : passes) EXPECT_GE(f.view->render(p), 0) << f.context->last_error();
   glFinish();
   return f.target->read_color();
 }
@@ -72,7 +72,7 @@ struct Leak {
   double frame_mean = 0.0;
 };
 
-Leak leak(Fixture& f, double utc, double height_m, double az, double el, std::vector<AtmoPass> background,
+Leak leak(Fixture& f, double utc, double height_m, double az, double el, std::vector<AtmoPassKind> background,
           const AtmoCloudLayer* layer) {
   Leak r;
   set_clouds(f, nullptr);

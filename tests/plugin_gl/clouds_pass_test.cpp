@@ -231,7 +231,7 @@ TEST(CloudsPass, SunCrossingTheHorizon) {
 // under `layer` (nullptr: no clouds): the aerial-perspective pass over black
 // with geometry 20 km away in the lower half (`depth`), or the sky pass with
 // no host depth.
-double luminance_under(Fixture& f, const AtmoCloudLayer* layer, AtmoPass pass, GLuint depth, double vfov_deg,
+double luminance_under(Fixture& f, const AtmoCloudLayer* layer, AtmoPassKind pass, GLuint depth, double vfov_deg,
                        int row_begin, int row_end) {
   const AtmoCloudsState s = clouds_at_innsbruck(layer, layer ? 1 : 0);
   EXPECT_EQ(raw_set_clouds(f, s), ATMO_SUCCESS) << f.context->last_error();

@@ -124,7 +124,7 @@ TEST(OrbitView, EveryPassAtEveryHeightWithCloudsFogAndLights) {
 
   const GLuint depth = atmo::support::make_split_depth_texture(kWidth, kHeight, 0.9999f);
   const glm::dmat4 projection = glm::perspective(glm::radians(60.0), double(kWidth) / kHeight, 1.0, 1.0e5);
-  const AtmoPass passes[] = {ATMO_PASS_SKY, ATMO_PASS_NIGHT_SKY, ATMO_PASS_CLOUDS, ATMO_PASS_AERIAL_PERSPECTIVE,
+  const AtmoPassKind passes[] = {ATMO_PASS_SKY, ATMO_PASS_NIGHT_SKY, ATMO_PASS_CLOUDS, ATMO_PASS_AERIAL_PERSPECTIVE,
                              ATMO_PASS_LIGHT_GLOWS};
   int renders = 0, drawn[ATMO_PASS_COUNT] = {};
   for (double utc : {kDayUtc, kNightUtc}) {
@@ -137,7 +137,7 @@ TEST(OrbitView, EveryPassAtEveryHeightWithCloudsFogAndLights) {
         f.view->set(vs);
         f.target->bind();
         f.target->clear(0.0f, 0.0f, 0.0f, 1.0f);
-        for (AtmoPass pass : passes) {
+        for (AtmoPassKind pass : passes) {
           const AtmoResult r = f.view->render(pass);
           ASSERT_TRUE(r == ATMO_SUCCESS || r == ATMO_STATUS_NOTHING_TO_DRAW)
               << "pass " << pass << " at " << h << " m, utc " << utc << ", pitch " << pitch << ": "
@@ -355,7 +355,7 @@ TEST(OrbitView, RangesAreTheEphemerisRangesAndRefusalsNameThem) {
       f.context->set_frame(frame);
       for (double h : {-1000.0, 1.0e7}) {
         f.view->set(innsbruck_view(h, 0.0, 30.0, projection));
-        for (AtmoPass pass : {ATMO_PASS_SKY, ATMO_PASS_NIGHT_SKY}) {
+        for (AtmoPassKind pass : {ATMO_PASS_SKY, ATMO_PASS_NIGHT_SKY}) {
           const AtmoResult r = f.view->render(pass);
           EXPECT_TRUE(r == ATMO_SUCCESS || r == ATMO_STATUS_NOTHING_TO_DRAW)
               << "utc " << utc << ", dut1 " << dut1 << ", " << h << " m, pass " << pass << ": "

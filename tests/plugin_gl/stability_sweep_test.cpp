@@ -236,7 +236,7 @@ struct Rig {
     return light;
   }
 
-  Image render(OffscreenTarget& target, AtmoPass pass, const float clear[3]) {
+  Image render(OffscreenTarget& target, AtmoPassKind pass, const float clear[3]) {
     target.bind();
     target.clear(clear[0], clear[1], clear[2], 1.0f);
     AtmoResult r = f.view->render(pass);
@@ -814,7 +814,7 @@ TEST(StabilitySweep, AutoHandOverToTheMarchAbove100Km) {
     std::nth_element(lum.begin(), lum.begin() + lum.size() * 9 / 10, lum.end());
     const double exposure = 1.0 / std::max(lum[lum.size() * 9 / 10], 1e-6);
     for (const auto& v : views) {
-      for (AtmoPass pass : {ATMO_PASS_SKY, ATMO_PASS_AERIAL_PERSPECTIVE}) {
+      for (AtmoPassKind pass : {ATMO_PASS_SKY, ATMO_PASS_AERIAL_PERSPECTIVE}) {
         if (pass == ATMO_PASS_AERIAL_PERSPECTIVE && !v.second) continue;
         auto image = [&](double height, uint32_t method) {
           AtmoViewState vs =

@@ -8,6 +8,7 @@
 
 #include "clouds_command.h"
 #include "compare_command.h"
+#include "default_paths.h"
 #include "ephemeris_command.h"
 #include "render_command.h"
 #include "spheres_command.h"
@@ -18,6 +19,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   atmo::render::Options render;
+  render.plugin_path = atmo::cli::default_plugin_path();
   CLI::App* render_cmd = app.add_subcommand(
       "render", "Render a scenario (JSON) through libatmo.so exactly as a host would; write EXR (linear, cd/m^2) and "
                 "PNG (tone-mapped), check the scenario's expectations, print per-pass GPU timings");
@@ -58,7 +60,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
 
   atmo::ephemeris::Options ephemeris;
-  ephemeris.catalog_path = ATMO_DEFAULT_STAR_CATALOG;
+  ephemeris.catalog_path = atmo::cli::default_star_catalog_path();
   CLI::App* ephemeris_cmd = app.add_subcommand(
       "ephemeris", "Topocentric apparent places of the Sun, the Moon, Mercury..Saturn (and a catalog star) for an "
                    "observer and a UTC time: azimuth, elevation with and without refraction, distance, RA/Dec, "

@@ -220,7 +220,7 @@ int run_render(const Options& options) {
       // The night sky before the clouds, which hide the stars; the light points after the glows (they carry
       // their own fog, atmo.h), so the glow pass's fog does not dim them twice. Passes with nothing to draw
       // (no clouds, no fog, no light above the eye's threshold) return NOTHING_TO_DRAW and cost nothing.
-      const std::pair<AtmoPass, const char*> passes[] = {{ATMO_PASS_SKY, "sky"},
+      const std::pair<AtmoPassKind, const char*> passes[] = {{ATMO_PASS_SKY, "sky"},
                                                          {ATMO_PASS_AERIAL_PERSPECTIVE, "aerial perspective"},
                                                          {ATMO_PASS_NIGHT_SKY, "night sky"},
                                                          {ATMO_PASS_CLOUDS, "clouds"},

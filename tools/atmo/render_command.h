@@ -14,7 +14,7 @@ namespace atmo::render {
 struct Options {
   std::string scenario_path;
   std::string out_dir;
-  std::string plugin_path = ATMO_DEFAULT_PLUGIN_PATH;
+  std::string plugin_path;  // main.cpp: default_paths.h's, when --plugin is not given
   std::string depth_override;  // "", standard, reversed, logarithmic
   int repeat = 1;
   bool no_sky_occlusion = false;  // objects drawn lit by the open sky; no ATMO_PASS_SKY_OCCLUSION, no get_sky_occlusion

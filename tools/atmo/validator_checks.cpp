@@ -102,7 +102,7 @@ struct Session {
     error = std::string(what) + " failed: " + name(plugin, r) + ": " + plugin.api().last_error(context);
     return false;
   }
-  AtmoResult render(AtmoPass pass) {
+  AtmoResult render(AtmoPassKind pass) {
     auto info = make<AtmoPassInfo>(ATMO_TYPE_PASS_INFO);
     info.pass = pass;
     return plugin.api().render_pass(view, &info);
@@ -753,7 +753,7 @@ CheckResult gl_state_check(const std::string& path, HeadlessGl::Profile profile,
   for (const char* call : {"first", "second"}) {
     for (int pass_index = 0; pass_index < ATMO_PASS_COUNT; ++pass_index) {
       const std::string what = std::string(call) + " render_pass(" + kPassNames[pass_index] + ")";
-      run(what, [&] { return s.render(static_cast<AtmoPass>(pass_index)); }, true);
+      run(what, [&] { return s.render(static_cast<AtmoPassKind>(pass_index)); }, true);
     }
   }
   // A second frame after the atmosphere changed (re-uploads the table).
@@ -836,7 +836,7 @@ CheckResult check_fixed_function_state(const std::string& path) {
     api.set_view(s.view, &view);
     for (int p = 0; p < ATMO_PASS_COUNT; ++p) {
       target->clear(0.25f, 0.5f, 0.75f, 1.0f);  // the host's geometry
-      AtmoResult r = s.render(static_cast<AtmoPass>(p));
+      AtmoResult r = s.render(static_cast<AtmoPassKind>(p));
       if (r < 0) return std::string("render_pass(") + kPassNames[p] + ") failed: " + api.last_error(s.context);
       out->push_back(target->read_color());
     }
@@ -910,7 +910,7 @@ CheckResult check_nothing_to_draw_costs_nothing(const std::string& path) {
   api.set_view(s.view, &view);
   AtmoResult r = s.render(ATMO_PASS_AERIAL_PERSPECTIVE);
   if (r != ATMO_STATUS_NOTHING_TO_DRAW) return fail("aerial perspective without depth returned " + name(s.plugin, r));
-  for (AtmoPass p : {ATMO_PASS_CLOUDS, ATMO_PASS_NIGHT_SKY, ATMO_PASS_LIGHT_GLOWS}) {
+  for (AtmoPassKind p : {ATMO_PASS_CLOUDS, ATMO_PASS_NIGHT_SKY, ATMO_PASS_LIGHT_GLOWS}) {
     r = s.render(p);
     if (r <= 0) return fail("an empty pass returned " + name(s.plugin, r) + ", expected a status > 0");
   }

@@ -432,7 +432,10 @@ typedef struct AtmoViewState {
 /* Passes                                                                    */
 /* ------------------------------------------------------------------------ */
 
-typedef enum AtmoPass {
+/* AtmoPassKind: which pass AtmoPassInfo.pass draws. Named AtmoPass at first; that name (a host's own
+   render-pass class often has it) stays as an alias unless the host defines ATMO_NO_LEGACY_NAMES before
+   including this header. */
+typedef enum AtmoPassKind {
   /* Sky dome, sun disc, and the Earth seen from above where no geometry is;
      the Moon's disc, the moonlit sky and the faint night background whenever
      they can be seen. Draws only where the host depth is at the far plane (or
@@ -485,7 +488,10 @@ typedef enum AtmoPass {
      objects or depth. docs/SKY_OCCLUSION.md. */
   ATMO_PASS_SKY_OCCLUSION = 6,
   ATMO_PASS_COUNT = 7
-} AtmoPass;
+} AtmoPassKind;
+#ifndef ATMO_NO_LEGACY_NAMES
+typedef AtmoPassKind AtmoPass;
+#endif
 
 /* AtmoPassInfo.flags */
 typedef enum AtmoPassFlags {
@@ -512,7 +518,7 @@ typedef enum AtmoPassFlags {
 
 typedef struct AtmoPassInfo {
   AtmoStructHeader header; /* ATMO_TYPE_PASS_INFO */
-  uint32_t pass;           /* AtmoPass */
+  uint32_t pass;           /* AtmoPassKind */
   uint32_t flags;          /* AtmoPassFlags the pass takes; 0 for the others */
 } AtmoPassInfo;
 

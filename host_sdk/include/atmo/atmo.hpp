@@ -229,7 +229,7 @@ class View {
 
   void set(const AtmoViewState& s) { context_->check(context_->api().set_view(view_, &s), "set_view"); }
   // [gl-current] Returns ATMO_SUCCESS or ATMO_STATUS_NOTHING_TO_DRAW.
-  AtmoResult render(AtmoPass pass, uint32_t flags = 0) {  // flags: AtmoPassFlags the pass takes
+  AtmoResult render(AtmoPassKind pass, uint32_t flags = 0) {  // flags: AtmoPassFlags the pass takes
     auto info = make<AtmoPassInfo>(ATMO_TYPE_PASS_INFO);
     info.pass = static_cast<uint32_t>(pass);
     info.flags = flags;

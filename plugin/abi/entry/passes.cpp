@@ -41,7 +41,7 @@ AtmoResult render_pass(AtmoView view_handle, const AtmoPassInfo* pass_in) {
                    [&](AtmoContext_T* ctx, AtmoView_T* view, AtmoPassInfo& pass) -> AtmoResult {
                      if (pass.pass >= ATMO_PASS_COUNT) {
                        return fail(ctx, ATMO_ERROR_INVALID_ARGUMENT, "render_pass",
-                                   "AtmoPassInfo.pass = " + std::to_string(pass.pass) + " is not an AtmoPass");
+                                   "AtmoPassInfo.pass = " + std::to_string(pass.pass) + " is not an AtmoPassKind");
                      }
                      const uint32_t takes = pass.pass == ATMO_PASS_SKY_OCCLUSION
                                                 ? uint32_t(ATMO_PASS_SKY_OCCLUSION_NORMAL_UP |
