@@ -50,6 +50,17 @@ string(STRIP "${last_output}" pc_plugin)
 run("cc with pkg-config" ${C_COMPILER} -std=c99 -Wall -Wextra -Werror ${HOST_SRC}/host.c -o ${WORK}/host-pc ${flags} -lm)
 run("the host (pkg-config)" ${WORK}/host-pc ${pc_plugin})
 
+# Relocatable: the prefix moved after installing still serves pkg-config and the CLI.
+file(RENAME ${prefix} ${WORK}/moved)
+set(prefix ${WORK}/moved)
+set(ENV{PKG_CONFIG_PATH} ${prefix}/lib/pkgconfig)
+run("pkg-config plugin (moved prefix)" pkg-config --variable=plugin atmo)
+string(STRIP "${last_output}" pc_plugin)
+if(NOT EXISTS ${pc_plugin})
+  message(FATAL_ERROR "after moving the prefix, pkg-config names '${pc_plugin}', which does not exist")
+endif()
+run("the host (pkg-config, moved prefix)" ${WORK}/host-pc ${pc_plugin})
+
 # The installed CLI finds the installed plugin and catalogue by itself (no --plugin).
 run("installed atmo ephemeris" ${prefix}/bin/atmo ephemeris --lat 47.46 --lon 8.56 --utc 2024-06-21T11:00:00Z)
 message(STATUS "install test passed: ${prefix}")
