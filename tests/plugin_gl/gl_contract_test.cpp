@@ -72,6 +72,14 @@ double block_difference(const Image& a, int ax, int ay, const Image& b, int bx, 
   return worst;
 }
 
+// The view both depth tests draw: 600 m over Innsbruck, 60° wide, near 1 m; geometry in bands at 0.3-30 km.
+struct BandedView {
+  glm::dmat4 proj = glm::perspective(glm::radians(60.0), double(kWidth) / kHeight, 1.0, 1e5);
+  AtmoViewState vs = innsbruck_view(600.0, 0.0, 0.0, proj);
+  std::vector<float> depth = banded_depth(kWidth, kHeight, proj, ATMO_DEPTH_STANDARD, {300.0, 2000.0, 8000.0, 30000.0});
+  BandedView() { vs.exposure_scale = 1e-4; }
+};
+
 // --------------------------------------------------------------- offset viewport
 
 // A viewport at (x, y) = (40, 24) in a 176 x 112 target draws what the same view draws at (0, 0), for a depth
@@ -79,11 +87,9 @@ double block_difference(const Image& a, int ax, int ay, const Image& b, int bx, 
 // (depth_origin = WINDOW, the default): sky only above the geometry, haze on it, nothing outside the viewport.
 TEST(GlContract, OffsetViewportReadsTheDepthOfItsOwnPixels) {
   Fixture f;
-  const glm::dmat4 proj = glm::perspective(glm::radians(60.0), double(kWidth) / kHeight, 1.0, 1e5);
-  AtmoViewState vs = innsbruck_view(600.0, 0.0, 0.0, proj);
-  vs.exposure_scale = 1e-4;
-  const std::vector<double> bands = {300.0, 2000.0, 8000.0, 30000.0};
-  const std::vector<float> depth = banded_depth(kWidth, kHeight, proj, ATMO_DEPTH_STANDARD, bands);
+  BandedView banded;
+  AtmoViewState& vs = banded.vs;
+  const std::vector<float>& depth = banded.depth;
   const GLuint viewport_depth = atmo::support::make_depth_texture(kWidth, kHeight, depth);
 
   // The reference: the viewport at the origin of a target its size.
@@ -167,11 +173,9 @@ GLuint depth_texture_in(GLenum internal_format, const std::vector<float>& depth,
 
 TEST(GlContract, DepthFormatsAndCompareModeReadTheSameDistances) {
   Fixture f;
-  const glm::dmat4 proj = glm::perspective(glm::radians(60.0), double(kWidth) / kHeight, 1.0, 1e5);
-  AtmoViewState vs = innsbruck_view(600.0, 0.0, 0.0, proj);
-  vs.exposure_scale = 1e-4;
-  const std::vector<float> depth =
-      banded_depth(kWidth, kHeight, proj, ATMO_DEPTH_STANDARD, {300.0, 2000.0, 8000.0, 30000.0});
+  BandedView banded;
+  AtmoViewState& vs = banded.vs;
+  const std::vector<float>& depth = banded.depth;
   ASSERT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
   const GLuint reference_texture = depth_texture_in(GL_DEPTH_COMPONENT32F, depth, kWidth, kHeight);
   vs.depth_texture = reference_texture;
