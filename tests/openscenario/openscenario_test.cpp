@@ -440,3 +440,15 @@ TEST(OpenScenarioErrors, StructureErrors) {
   EXPECT_NE(sc::load_scenario_file("/nonexistent/a.xosc").error.find("/nonexistent/a.xosc: cannot open: "),
             std::string::npos);
 }
+
+TEST(OpenScenarioErrors, DevicesAndDeepNestingAreSafe) {
+  // A logic file that is a device: not read (it would never end), the default place.
+  const sc::Scenario s = load_ok(xosc(kNoon, "<RoadNetwork><LogicFile filepath=\"/dev/zero\"/></RoadNetwork>"));
+  EXPECT_TRUE(has_note(s.import_notes, "/LogicFile", "/dev/zero: not a regular file")) << notes_text(s);
+  // 200 000 nested elements: searched without recursion.
+  std::string deep = "<OpenSCENARIO><FileHeader revMajor=\"1\" revMinor=\"2\"/>";
+  for (int i = 0; i < 200000; ++i) deep += "<a>";
+  for (int i = 0; i < 200000; ++i) deep += "</a>";
+  deep += "</OpenSCENARIO>";
+  EXPECT_NE(load_error(deep).find("no Environment found"), std::string::npos);
+}

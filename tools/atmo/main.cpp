@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
 
   atmo::render::Options render;
   CLI::App* render_cmd = app.add_subcommand(
-      "render", "Render a scenario (JSON) through libatmo.so exactly as a host would; write EXR (linear, cd/m^2) and "
+      "render", "Render a scenario (JSON, or an OpenSCENARIO .xosc's Environment) through libatmo.so exactly as a host would; write EXR (linear, cd/m^2) and "
                 "PNG (tone-mapped), check the scenario's expectations, print per-pass GPU timings");
   render_cmd->add_option("scenario", render.scenario_path,
                          "Scenario file: JSON (see config/scenario.schema.json) or an OpenSCENARIO .xosc, whose "

@@ -55,7 +55,20 @@ std::string line_column(const std::string& text, std::ptrdiff_t offset) {
   return "line " + std::to_string(line) + ", column " + std::to_string(end - line_start + 1);
 }
 
+// Larger files are refused: a scenario, road or catalog file is kilobytes to a few megabytes.
+constexpr std::uintmax_t kMaxFileBytes = 256u << 20;
+
+// Regular files only: a path written in the file may name a device (/dev/zero) or a directory.
 std::optional<std::string> read_file(const std::string& path, std::string* error) {
+  std::error_code ec;
+  if (fs::exists(path, ec) && !fs::is_regular_file(path, ec)) {
+    *error = path + ": not a regular file";
+    return std::nullopt;
+  }
+  if (const std::uintmax_t bytes = fs::file_size(path, ec); !ec && bytes > kMaxFileBytes) {
+    *error = path + ": " + std::to_string(bytes) + " bytes, more than " + std::to_string(kMaxFileBytes) + " allowed";
+    return std::nullopt;
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     const int err = errno;
@@ -274,11 +287,18 @@ class Importer {
     fail(root, "", "no Environment found: expected GlobalAction/EnvironmentAction or a Catalog of Environments");
   }
 
-  static void find_all(pugi::xml_node n, const char* name, std::vector<pugi::xml_node>* out) {
-    for (pugi::xml_node c : n.children()) {
-      if (c.type() != pugi::node_element) continue;
-      if (std::strcmp(c.name(), name) == 0) out->push_back(c);
-      find_all(c, name, out);
+  // Every element called `name` below `top`, in document order; without recursion, so any depth of nesting
+  // is safe.
+  static void find_all(pugi::xml_node top, const char* name, std::vector<pugi::xml_node>* out) {
+    pugi::xml_node n = top.first_child();
+    while (n && n != top) {
+      if (n.type() == pugi::node_element && std::strcmp(n.name(), name) == 0) out->push_back(n);
+      if (n.first_child()) {
+        n = n.first_child();
+        continue;
+      }
+      while (n && n != top && !n.next_sibling()) n = n.parent();
+      if (n && n != top) n = n.next_sibling();
     }
   }
 
@@ -297,7 +317,7 @@ class Importer {
     for (fs::directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec)) {
       std::string ext = it->path().extension().string();
       for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-      if (ext == ".xosc") files.push_back(it->path());
+      if (ext == ".xosc" && it->is_regular_file(ec)) files.push_back(it->path());
     }
     if (ec) fail(dir, "path", "cannot resolve " + what + ": " + path.string() + ": " + ec.message());
     std::sort(files.begin(), files.end());
@@ -403,6 +423,8 @@ class Importer {
       std::string why;
       const auto posix = parse_iso8601_utc(utc, &why);
       if (!posix) {
+        const std::string echo = "'" + utc + "': ";  // the parser quotes the text; found "..." shows it already
+        if (why.rfind(echo, 0) == 0) why.erase(0, echo.size());
         fail_value(t, "dateTime", "a date and time \"YYYY-MM-DDThh:mm:ss[.f][Z|+hh:mm|-hh:mm]\" (" + why + ")",
                    raw, utc);
       }
