@@ -21,9 +21,11 @@ int main(int argc, char** argv) {
   atmo::render::Options render;
   render.plugin_path = atmo::cli::default_plugin_path();
   CLI::App* render_cmd = app.add_subcommand(
-      "render", "Render a scenario (JSON) through libatmo.so exactly as a host would; write EXR (linear, cd/m^2) and "
+      "render", "Render a scenario (JSON, or an OpenSCENARIO .xosc's Environment) through libatmo.so exactly as a host would; write EXR (linear, cd/m^2) and "
                 "PNG (tone-mapped), check the scenario's expectations, print per-pass GPU timings");
-  render_cmd->add_option("scenario", render.scenario_path, "Scenario file (see config/scenario.schema.json)")
+  render_cmd->add_option("scenario", render.scenario_path,
+                         "Scenario file: JSON (see config/scenario.schema.json) or an OpenSCENARIO .xosc, whose "
+                         "Environment is imported (docs/OPENSCENARIO.md)")
       ->required()
       ->check(CLI::ExistingFile);
   render_cmd->add_option("--out", render.out_dir, "Output directory (created if missing)")->required();
@@ -37,6 +39,15 @@ int main(int argc, char** argv) {
                        "Draw the scenario's objects lit by the open sky, without their sky occlusion (no ATMO_PASS_SKY_OCCLUSION, "
                        "no get_sky_occlusion: no shadows, no bounce), to compare with; the reference image check then "
                        "fails where they cast shadows");
+
+  render_cmd->add_option("--lat", render.import.latitude_deg,
+                         "OpenSCENARIO only: the place's latitude, degrees north, over the road network's geoReference "
+                         "(default: that, else 48.137)")
+      ->check(CLI::Range(-90.0, 90.0));
+  render_cmd->add_option("--lon", render.import.longitude_deg,
+                         "OpenSCENARIO only: the place's longitude, degrees east (default: the geoReference's, else 11.575)")
+      ->check(CLI::Range(-180.0, 180.0));
+  render_cmd->add_option("--size", render.size, "OpenSCENARIO only: the camera's WIDTHxHEIGHT in pixels (default 640x360)");
 
   atmo::validate::Options validate;
   CLI::App* validate_cmd = app.add_subcommand(

@@ -131,8 +131,30 @@ void set_lights(const sc::Scenario& scenario, const hs::Terrain& terrain, double
   context.set_lights(hs::lights_state_enu(origin_of(scenario), points, glow_threshold_cd_m2_of(exposure)));
 }
 
+// "WxH", each in [1, 8192], into the import's camera size.
+bool parse_size(const std::string& text, sc::ImportOptions* import) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x') return false;
+  if (w < 1 || w > 8192 || h < 1 || h > 8192) return false;
+  import->width = w;
+  import->height = h;
+  return true;
+}
+
 int run_render(const Options& options) {
-  sc::LoadResult loaded = sc::load_scenario_file(options.scenario_path);
+  sc::ImportOptions import = options.import;
+  if (!options.size.empty() && !parse_size(options.size, &import)) {
+    std::fprintf(stderr, "atmo render: --size: expected WIDTHxHEIGHT, each 1 to 8192, found '%s'\n",
+                 options.size.c_str());
+    return 2;
+  }
+  if (!import.empty() && !sc::is_openscenario_path(options.scenario_path)) {
+    std::fprintf(stderr, "atmo render: %s: --lat, --lon and --size apply to OpenSCENARIO (.xosc) files only; a JSON "
+                 "scenario states its place and cameras\n", options.scenario_path.c_str());
+    return 2;
+  }
+  sc::LoadResult loaded = sc::load_scenario_file(options.scenario_path, import);
   if (!loaded.scenario) {
     std::fprintf(stderr, "atmo render: %s\n", loaded.error.c_str());
     return 2;
@@ -145,6 +167,8 @@ int run_render(const Options& options) {
     std::printf("scenario %s: %s (%s UTC, %.4f°, %.4f°, %.0f m)\n", scenario.name.c_str(), scenario.description.c_str(),
                 scenario.utc.c_str(), scenario.location.latitude_deg, scenario.location.longitude_deg,
                 scenario.location.height_m);
+    for (const sc::Notice& n : scenario.import_notes)
+      std::printf("  imported: %s: %s\n", n.path.c_str(), n.message.c_str());
     for (const sc::Notice& n : scenario.not_yet_supported)
       std::printf("  not yet supported: %s: %s\n", n.path.c_str(), n.message.c_str());
 
@@ -371,6 +395,9 @@ int run_render(const Options& options) {
     report["not_yet_supported"] = nlohmann::json::array();
     for (const sc::Notice& n : scenario.not_yet_supported)
       report["not_yet_supported"].push_back({{"path", n.path}, {"message", n.message}});
+    report["import_notes"] = nlohmann::json::array();
+    for (const sc::Notice& n : scenario.import_notes)
+      report["import_notes"].push_back({{"path", n.path}, {"message", n.message}});
     std::ofstream(std::filesystem::path(options.out_dir) / (file_stem + "_report.json")) << report.dump(2) << "\n";
     std::printf("scenario %s: %d passed, %d failed\n", scenario.name.c_str(), checks.passed, checks.failed);
     return checks.failed == 0 ? 0 : 1;

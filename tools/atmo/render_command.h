@@ -9,6 +9,8 @@
 
 #include <string>
 
+#include "atmo_scenario/scenario.h"
+
 namespace atmo::render {
 
 struct Options {
@@ -18,6 +20,8 @@ struct Options {
   std::string depth_override;  // "", standard, reversed, logarithmic
   int repeat = 1;
   bool no_sky_occlusion = false;  // objects drawn lit by the open sky; no ATMO_PASS_SKY_OCCLUSION, no get_sky_occlusion
+  std::string size;               // "WxH": an OpenSCENARIO file's camera (parsed by run_render)
+  scenario::ImportOptions import; // --lat/--lon/--size: OpenSCENARIO files only
 };
 
 // 0: rendered and every expectation met; 1: an expectation failed; 2: error.

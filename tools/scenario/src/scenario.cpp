@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 
+#include "atmo_scenario/openscenario.h"
 #include "json_reader.h"
 
 namespace atmo::scenario {
@@ -652,7 +653,14 @@ LoadResult parse_scenario(const std::string& json_text, const std::string& file_
   return result;
 }
 
-LoadResult load_scenario_file(const std::string& path) {
+bool is_openscenario_path(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".xosc";
+}
+
+LoadResult load_scenario_file(const std::string& path, const ImportOptions& options) {
+  if (is_openscenario_path(path)) return load_openscenario_file(path, options);
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     const int err = errno;

@@ -283,6 +283,9 @@ struct Scenario {
   std::optional<Flight> flight;      // absent: one frame at the first camera's pose
 
   std::vector<Notice> not_yet_supported;  // one per such section present
+  // How an imported file (OpenSCENARIO, openscenario.h) was mapped: defaults
+  // taken, values clamped, what won where two sources disagree. Empty for JSON.
+  std::vector<Notice> import_notes;
 };
 
 struct LoadResult {
@@ -290,8 +293,20 @@ struct LoadResult {
   std::string error;  // empty on success; else one line per problem
 };
 
+// What an OpenSCENARIO file does not say and the command line may
+// (openscenario.h; `atmo render --lat --lon --size`). Unset: the import's defaults.
+struct ImportOptions {
+  std::optional<double> latitude_deg;   // wins over the road network's geo-reference
+  std::optional<double> longitude_deg;
+  std::optional<int> width, height;     // the default camera's pixels
+  bool empty() const { return !latitude_deg && !longitude_deg && !width && !height; }
+};
+
 // Reads and validates a scenario file; errors are labelled with `path`.
-LoadResult load_scenario_file(const std::string& path);
+// An OpenSCENARIO file (".xosc", any case: is_openscenario_path) is imported
+// (openscenario.h) with `options`; a JSON file ignores them.
+LoadResult load_scenario_file(const std::string& path, const ImportOptions& options = {});
+bool is_openscenario_path(const std::string& path);
 
 // Validates JSON text; errors are labelled with `file_label`, whose directory
 // (if any) becomes Scenario::source_dir.
