@@ -13,6 +13,7 @@
 #include <vtkShaderProgram.h>
 
 #include "atmo_support/gl_state.h"
+#include "atmo_support/headless_gl.h"
 
 namespace atmo::vtk_host {
 
@@ -184,6 +185,7 @@ bool GlStateProof::load_gl(std::string* error) {
     if (error) *error = "glad could not load GL through glXGetProcAddressARB (no current context?)";
     return false;
   }
+  support::pin_gl_drivers();  // Mesa's one-time allocations stay reachable for LeakSanitizer
   return true;
 }
 

@@ -34,6 +34,7 @@
 #include <vtkToneMappingPass.h>
 #include <vtkWindowToImageFilter.h>
 
+#include "atmo_support/headless_gl.h"
 #include "atmo_vtk_pass.h"
 #include "core/astro/iso8601.h"
 #include "vtk_atmosphere.h"
@@ -212,10 +213,12 @@ int main(int argc, char** argv) {
     interactor->SetInteractorStyle(style);
     interactor->SetRenderWindow(window);
     window->Render();
+    atmo::support::pin_gl_drivers();
     interactor->Start();
   } else {
     for (int f = 0; f < frames; ++f) {
       window->Render();
+      atmo::support::pin_gl_drivers();  // once the driver is loaded: LeakSanitizer then sees its allocations
       if (!out_dir.empty()) {
         char name[32];
         std::snprintf(name, sizeof name, "vtk_host_%04d.png", f);
