@@ -31,6 +31,8 @@
 #include <vtkTransformPolyDataFilter.h>
 #include <vtkUnsignedCharArray.h>
 
+#include "atmo_support/image.h"
+
 namespace atmo::vtk_host {
 
 namespace hs = atmo::host_scene;
@@ -176,17 +178,23 @@ void apply_lighting(Scene& scene, const AtmoLighting& l, bool linear, double exp
   const double* e = l.sun_illuminance_lux;
   const double peak = std::max({e[0], e[1], e[2]});
   scene.sun->SetPosition(l.sun_direction_enu);  // a scene light shines from its position to its focal point
-  scene.sun->SetSwitch(peak > 0.0 && l.sun_elevation_rad > 0.0);
+  // Kept on below the horizon with no intensity: VTK draws unlit (full colour) when no light is on.
+  scene.sun->SetSwitch(true);
   if (peak > 0.0) scene.sun->SetDiffuseColor(e[0] / peak, e[1] / peak, e[2] / peak);
   const double exposure = exposure_scale > 0.0 ? exposure_scale : 1.0 / (1.2 * 32768.0);
-  scene.sun->SetIntensity(linear ? peak * exposure / kPi : 1.0);
-  // VTK's OpenGL2 ambient term is the actor's ambient colour x coefficient (lights add none):
-  // the sky's illuminance on a horizontal surface, in the same units.
+  const double sun = l.sun_elevation_rad > 0.0 ? peak * exposure / kPi : 0.0;  // a white Lambertian surface
+  // VTK's OpenGL2 ambient term is the actor's colour x its ambient coefficient (lights add none):
+  // the sky's illuminance on a horizontal surface.
   const double* sky = l.sky_illuminance_horizontal_lux;
-  const double sky_y = 0.2126 * sky[0] + 0.7152 * sky[1] + 0.0722 * sky[2];
-  const double ambient = linear ? sky_y * exposure / kPi : kAmbientDisplay;
+  const double ambient = (0.2126 * sky[0] + 0.7152 * sky[1] + 0.0722 * sky[2]) * exposure / kPi;
+  // Linear: the plugin's output units. Display: VTK's colours are display-referred, so the light
+  // is what the plugin's DISPLAY_SRGB encoding makes of a white surface under it.
+  const auto display = [](double x) {
+    return double(support::srgb_encode(support::aces_filmic(static_cast<float>(x))));
+  };
+  scene.sun->SetIntensity(linear ? sun : display(sun));
   for (auto& actor : scene.actors) {
-    actor->GetProperty()->SetAmbient(ambient);
+    actor->GetProperty()->SetAmbient(linear ? ambient : display(ambient));
     actor->GetProperty()->SetDiffuse(1.0);
   }
 }

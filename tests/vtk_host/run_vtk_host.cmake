@@ -5,6 +5,10 @@
 # GL state changes and VTK state-cache mismatches after every plugin call.
 string(REPLACE "," ";" extra "${ARGS}")
 set(common --plugin ${PLUGIN} --frames ${FRAMES} --width ${WIDTH} --height ${HEIGHT})
+# -f: an auth file of our own, so xvfb-run makes and removes no temporary folder
+# (its clean-up of that folder fails now and then: "problem while cleaning up
+# temporary directory", exit 5, whatever the command's status).
+file(MAKE_DIRECTORY ${OUT_DIR})
 foreach(run atmo plain)
   file(REMOVE_RECURSE ${OUT_DIR}/${run})
   if(run STREQUAL "atmo")
@@ -13,7 +17,7 @@ foreach(run atmo plain)
     set(options ${extra} --no-atmo)
   endif()
   execute_process(
-    COMMAND ${XVFB_RUN} -a ${HOST} ${common} --out ${OUT_DIR}/${run} ${options}
+    COMMAND ${XVFB_RUN} -a -f ${OUT_DIR}/Xauthority ${HOST} ${common} --out ${OUT_DIR}/${run} ${options}
     RESULT_VARIABLE result TIMEOUT 120)
   if(NOT result EQUAL 0)
     message(FATAL_ERROR "atmo-vtk-host (${run}: ${options}) exited with '${result}'")
