@@ -24,7 +24,7 @@ AtmoVtkPass::~AtmoVtkPass() = default;
 bool AtmoVtkPass::ensure_targets(vtkRenderer* renderer, int width, int height) {
   auto* window = static_cast<vtkOpenGLRenderWindow*>(renderer->GetRenderWindow());
   if (color_ && width == width_ && height == height_) return true;
-  ReleaseGraphicsResources(window);
+  release_targets(window);
   color_ = vtkSmartPointer<vtkTextureObject>::New();
   color_->SetContext(window);
   // Float: the plugin's LINEAR_HDR radiance (--tone-map) and its blending need more than 8 bits.
@@ -170,6 +170,10 @@ void AtmoVtkPass::composite(vtkRenderer* renderer, int x, int y, int width, int 
 
 void AtmoVtkPass::ReleaseGraphicsResources(vtkWindow* w) {
   if (delegate_) delegate_->ReleaseGraphicsResources(w);
+  release_targets(w);
+}
+
+void AtmoVtkPass::release_targets(vtkWindow* w) {
   if (copy_) copy_->ReleaseGraphicsResources(w);
   copy_.reset();
   scene_fbo_ = nullptr;

@@ -70,6 +70,7 @@ class AtmoVtkPass : public vtkRenderPass {
   void operator=(const AtmoVtkPass&) = delete;
 
   bool ensure_targets(vtkRenderer* renderer, int width, int height);
+  void release_targets(vtkWindow* w);  // the pass's own textures, framebuffers and copy program
   void composite(vtkRenderer* renderer, int x, int y, int width, int height);
 
   vtkSmartPointer<vtkRenderPass> delegate_;
