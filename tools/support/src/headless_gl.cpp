@@ -89,24 +89,6 @@ void release_display(EGLDisplay display) {
 // context becomes current (its version flags may differ).
 EGLContext g_glad_loaded_for = EGL_NO_CONTEXT;
 
-// Mesa unloads its DRI driver at exit, before LeakSanitizer scans: its
-// one-time allocations then look leaked from an unnamed module, which no
-// suppression can match. Keeping the driver mapped keeps them reachable.
-void pin_gl_drivers() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    dl_iterate_phdr(
-        [](dl_phdr_info* info, size_t, void*) {
-          const char* n = info->dlpi_name;
-          if (n && (std::strstr(n, "_dri.so") || std::strstr(n, "libgallium"))) {
-            dlopen(n, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);  // handle kept on purpose
-          }
-          return 0;
-        },
-        nullptr);
-  });
-}
-
 GLADapiproc load_proc(const char* name) { return reinterpret_cast<GLADapiproc>(eglGetProcAddress(name)); }
 
 struct Attempt {
@@ -202,6 +184,24 @@ bool make_context(EGLDisplay display, bool prefer_pbuffer, HeadlessGl::Profile p
 }
 
 }  // namespace
+
+// Mesa unloads its DRI driver at exit, before LeakSanitizer scans: its
+// one-time allocations then look leaked from an unnamed module, which no
+// suppression can match. Keeping the driver mapped keeps them reachable.
+void pin_gl_drivers() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    dl_iterate_phdr(
+        [](dl_phdr_info* info, size_t, void*) {
+          const char* n = info->dlpi_name;
+          if (n && (std::strstr(n, "_dri.so") || std::strstr(n, "libgallium"))) {
+            dlopen(n, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);  // handle kept on purpose
+          }
+          return 0;
+        },
+        nullptr);
+  });
+}
 
 std::unique_ptr<HeadlessGl> HeadlessGl::create(Profile profile, std::string* error) {
   std::string log;

@@ -45,4 +45,11 @@ class HeadlessGl {
   std::string renderer_, version_, platform_;
 };
 
+// Keeps Mesa's loaded DRI/gallium driver mapped until exit (RTLD_NODELETE), so
+// LeakSanitizer sees its one-time allocations as reachable instead of leaked
+// from an unnamed module no suppression matches. HeadlessGl calls it; a host
+// whose GL context comes from elsewhere (GLX under VTK) calls it once the
+// context exists.
+void pin_gl_drivers();
+
 }  // namespace atmo::support
