@@ -2,8 +2,9 @@
 // sends four states through cigi.h's encoder — noon in clear air (50 km),
 // noon at 2 km, noon under an overcast deck, a clear night — each for
 // --frames-per-state host frames (the packets in the first, an IG Control
-// alone in the rest, as a host sends every frame: the plugin draws a change
-// from the frame it was asked at + its deferred frames), with malformed,
+// alone in the rest, as a host sends every frame: the IG draws a change from
+// its --deferred-frames D on, so D or more frames a state draw its last frame
+// with it), with malformed,
 // truncated, unknown and byte-swapped datagrams between them. It waits for
 // the IG's Start of Frame after each frame (--sof-timeout, then exit 1): it
 // must echo the host frame number and count its own frames one by one.
@@ -239,8 +240,8 @@ int main(int argc, char** argv) {
   app.add_option("--ig", ig_address, "The IG's IPv4 address")->capture_default_str();
   app.add_option("--port", port, "The IG's UDP port")->required()->check(CLI::Range(1, 65535));
   app.add_option("--frames-per-state", frames_per_state,
-                 "Host frames each state is held for (the packets in the first); the IG's --deferred-frames + 1 "
-                 "draws each state's last frame with it")
+                 "Host frames each state is held for (the packets in the first); as many as the IG's "
+                 "--deferred-frames or more: each state's last frame is drawn with it")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
   app.add_option("--sof-timeout", sof_timeout_s, "Seconds to wait for each Start of Frame")

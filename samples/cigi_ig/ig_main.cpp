@@ -11,12 +11,15 @@
 //                [--out DIR] [--state-log FILE] [--plugin PATH] [--deferred-frames D]
 //
 // The plugin's frame is the host's frame number, so IGs of one host agree
-// (docs/MULTI_CHANNEL.md): a change sent at host frame F is drawn from frame
-// F + D (--deferred-frames; the plugin's 8 by default).
+// (docs/MULTI_CHANNEL.md). A message's set_* calls come before its frame's
+// set_frame, so the plugin counts them as asked at the frame before: a change
+// sent at host frame F is drawn from frame F - 1 + D (--deferred-frames D;
+// the plugin's 8 by default; D = 1: from F itself).
 //
 // Exit codes: 0 after --frames N frames (or SIGINT/SIGTERM), 1 a plugin error,
 // 2 a setup failure (arguments, socket, GL, files), 3 no datagram for
 // --idle-timeout seconds.
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -26,8 +29,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <chrono>
 
 #include "atmo/cigi.h"
 #include "atmo_support/cli.h"
@@ -56,7 +57,7 @@ constexpr double kPluginDefaultVisibilityM = 40000.0;  // AtmoAtmosphereState.vi
 
 struct Options {
   std::string bind = "127.0.0.1";
-  uint16_t port = 8004;  // CCL's example IG port (the host's sends to it)
+  uint16_t port = 8004;
   std::string port_file;
   int frames = 0;               // 0: until the idle timeout or a signal
   double idle_timeout_s = 300;  // 0: wait for ever
@@ -206,8 +207,8 @@ int main(int argc, char** argv) {
   app.add_option("--height", o.height, "Height in pixels")->check(CLI::Range(16, 8192))->capture_default_str();
   app.add_option("--ev", o.ev100, "Exposure, EV100 (fixed: night is dark)")->capture_default_str();
   app.add_option("--deferred-frames", o.deferred_frames,
-                 "A change the host sends at host frame F is drawn from frame F + D (new air tables, the clouds' "
-                 "lighting: AtmoFrameState.deferred_frames); 0: the plugin's 8")
+                 "A change the host sends at host frame F is drawn from frame F - 1 + D (new air tables, the "
+                 "clouds' lighting: AtmoFrameState.deferred_frames); 1: from F; 0: the plugin's 8")
       ->check(CLI::Range(0u, 100000u))
       ->capture_default_str();
   app.add_flag("--verbose", o.verbose, "Print the plugin's debug and info messages");
