@@ -28,6 +28,8 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "atmo/cigi.h"
@@ -138,20 +140,28 @@ bool apply_plugin_state(const cigi::PluginState& s, sample::SceneSettings* setti
 
 // The packets' fields the plugin has no input for (docs/CIGI.md's table), said the first time each packet comes.
 const char* not_drawn(const cigi::Event& e) {
-  switch (e.index()) {
-    case 0: return "IG Control: database, smoothing, last IG frame and entity substitution accepted, not drawn "
-                   "(the IG mode is echoed in the Start of Frame; a requested database answers -128)";
-    case 1: return "Celestial Sphere Control: Sun and Moon enables and star intensity accepted, not drawn "
-                   "(the plugin draws the Sun, Moon and stars where they are; star field enable off skips the "
-                   "night sky pass)";
-    case 2: return "Atmosphere Control: model enable, humidity, temperature, winds and pressure accepted, not drawn "
-                   "(visibility drawn)";
-    case 3: return "Environmental Region Control: accepted, not drawn (the plugin has no regional weather)";
-    case 4: return "Weather Control: humidity, temperature, scud, transition bands, winds, lightning, severity, "
-                   "pressure, aerosol and the visibility inside clouds accepted, not drawn; regional and entity "
-                   "layers and layers 10-255 not drawn; rain to dust (4-9) give only a visibility";
-  }
-  return "";
+  return std::visit(
+      [](const auto& p) -> const char* {
+        using T = std::decay_t<decltype(p)>;
+        if constexpr (std::is_same_v<T, cigi::IgControl>) {
+          return "IG Control: database, smoothing, last IG frame and entity substitution accepted, not drawn (the "
+                 "IG mode is echoed in the Start of Frame; a requested database answers -128)";
+        } else if constexpr (std::is_same_v<T, cigi::CelestialControl>) {
+          return "Celestial Sphere Control: Sun and Moon enables and star intensity accepted, not drawn (the plugin "
+                 "draws the Sun, Moon and stars where they are; star field enable off skips the night sky pass)";
+        } else if constexpr (std::is_same_v<T, cigi::AtmosphereControl>) {
+          return "Atmosphere Control: model enable, humidity, temperature, winds and pressure accepted, not drawn "
+                 "(visibility drawn)";
+        } else if constexpr (std::is_same_v<T, cigi::RegionControl>) {
+          return "Environmental Region Control: accepted, not drawn (the plugin has no regional weather)";
+        } else {
+          static_assert(std::is_same_v<T, cigi::WeatherControl>, "a packet without its line");
+          return "Weather Control: humidity, temperature, scud, transition bands, winds, lightning, severity, "
+                 "pressure, aerosol and the visibility inside clouds accepted, not drawn; regional and entity "
+                 "layers and layers 10-255 not drawn; rain to dust (4-9) give only a visibility";
+        }
+      },
+      e);
 }
 
 std::string clouds_text(const sample::SceneSettings& s) {
