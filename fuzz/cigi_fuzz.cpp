@@ -4,7 +4,10 @@
 // refused; a refused datagram has no events and an error naming a byte inside
 // it; every decoded number is finite and re-encodes to the same events
 // (decode(encode(decode(x))) == decode(x)); the mapped structs lie inside
-// the plugin's documented ranges (atmo.h), whatever the packets said.
+// the plugin's documented ranges (atmo.h), whatever the packets said. The
+// same bytes as an IG-to-host message (decode_ig_message, the Start of
+// Frame): decoded xor refused, and a decoded Start of Frame re-encodes to
+// its own bytes.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -54,9 +57,26 @@ void check_mapped(const c::PluginState& s) {
   }
 }
 
+void check_ig_message(const uint8_t* data, size_t size) {
+  const c::IgMessage m = c::decode_ig_message(data, size);
+  if (!m.ok()) {
+    FUZZ_CHECK(m.skipped.empty() && m.sof == c::StartOfFrame{}, "a refused IG message carries nothing");
+    FUZZ_CHECK(!m.error->message.empty(), "an error says why");
+    FUZZ_CHECK(size == 0 || m.error->offset < size, "the error names a byte inside the datagram");
+    return;
+  }
+  size_t covered = c::v3::kStartOfFrameSize;
+  for (const c::SkippedPacket& k : m.skipped) covered += k.size;
+  FUZZ_CHECK(covered == size, "the Start of Frame and the skipped packets cover the datagram");
+  const std::vector<uint8_t> again = c::encode_start_of_frame(m.sof, m.byte_order);
+  const c::IgMessage m2 = c::decode_ig_message(again);
+  FUZZ_CHECK(m2.ok() && m2.sof == m.sof && m2.byte_order == m.byte_order, "decode(encode(sof)) == sof");
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  check_ig_message(data, size);
   const c::DecodeResult d = c::decode(data, size);
   if (!d.ok()) {
     FUZZ_CHECK(d.events.empty() && d.skipped.empty(), "a refused datagram carries nothing");

@@ -1,7 +1,8 @@
 // make_cigi_seeds.cpp — writes the CIGI fuzz target's seed corpus
 // (fuzz/corpus/cigi/): valid datagrams of CIGI 3.3 and 4.0 in both byte
-// orders with every environment packet, skipped packets, and a clouds-and-fog
-// message, so mutations start from real layouts. Run once by hand:
+// orders with every environment packet, skipped packets, a clouds-and-fog
+// message and the IG's Start of Frame, so mutations start from real layouts.
+// Run once by hand:
 //   build-fuzz/fuzz/fuzz_make_cigi_seeds fuzz/corpus/cigi
 #include <string>
 #include <vector>
@@ -83,6 +84,17 @@ int main(int argc, char** argv) {
     c::Encoder e4(v40, c::ByteOrder::Little);
     e4.add(c::IgControl{}).add_raw(1, 56).add(c::AtmosphereControl{}).add_raw(0x8000, 16);
     write(dir + "/v40_skipped_packets", e4.bytes());
+  }
+  {  // the IG's answer (decode_ig_message): a Start of Frame, alone and with a HAT/HOT Response after it
+    c::StartOfFrame sof;
+    sof.timestamp_valid = true;
+    sof.ig_frame_number = 41;
+    sof.last_host_frame_number = 100;
+    write(dir + "/v33_sof_big", c::encode_start_of_frame(sof, c::ByteOrder::Big));
+    std::vector<uint8_t> with_response = c::encode_start_of_frame(sof, c::ByteOrder::Little);
+    with_response.insert(with_response.end(), {102, 16});
+    with_response.resize(with_response.size() + 14, 0);
+    write(dir + "/v33_sof_little_and_response", with_response);
   }
   return 0;
 }

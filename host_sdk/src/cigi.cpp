@@ -27,6 +27,13 @@
 //     visibility @12, scud frequency @16, coverage @20, base elevation @24,
 //     thickness @28, transition band @32, horizontal wind @36, vertical wind
 //     @40, wind direction @44, pressure @48, aerosol @52 (g/m^3).
+//   Start of Frame (101, 24; IG to host): major u8 @2, database i8 @3, IG
+//     status u8 @4, @5: IG mode 0x03, timestamp valid 0x04, Earth reference
+//     model 0x08, minor 0xF0; byte-swap magic u16 @6; IG frame u32 @8;
+//     timestamp u32 @12; last host frame u32 @16; reserved @20. Sources: CCL
+//     3.3 source/CigiSOFV3_2.cpp and Rinchi::CIGIPP::StartOfFrame (pack
+//     format 'CCCcCCSIIII'); Wireshark's hf_cigi3_2_start_of_frame_* fields
+//     come in the same order.
 //
 // CIGI 4.0 — header: size u16 @0, id u16 @2. Source: CCL 4.0.2
 // (captainflasmr/cigi-ccl_4_0 source/Cigi*V4.cpp); the IG Control and the
@@ -380,6 +387,7 @@ std::string hex2(uint8_t b) {
 }  // namespace
 
 const char* packet_name(uint8_t major, uint32_t id) {
+  if (major == 3 && id == v3::kStartOfFrameId) return "Start of Frame";
   switch (kind_of(major, id)) {
     case Kind::Ig: return "IG Control";
     case Kind::Celestial: return "Celestial Sphere Control";
@@ -768,6 +776,117 @@ std::vector<uint8_t> encode(Version version, ByteOrder order, const std::vector<
   Encoder e(version, order);
   for (const Event& ev : events) e.add(ev);
   return e.bytes();
+}
+
+// ---- Start of Frame (CIGI 3.2/3.3, IG to host) --------------------------------
+
+bool operator==(const StartOfFrame& a, const StartOfFrame& b) {
+  return std::tie(a.minor_version, a.database_id, a.ig_status, a.ig_mode, a.timestamp_valid,
+                  a.earth_model_host_defined, a.ig_frame_number, a.timestamp_ticks, a.last_host_frame_number) ==
+         std::tie(b.minor_version, b.database_id, b.ig_status, b.ig_mode, b.timestamp_valid,
+                  b.earth_model_host_defined, b.ig_frame_number, b.timestamp_ticks, b.last_host_frame_number);
+}
+
+std::vector<uint8_t> encode_start_of_frame(const StartOfFrame& sof, ByteOrder order) {
+  require(sof.ig_mode <= 3, "IG mode is 2 bits");
+  require(sof.minor_version <= 15, "minor version is 4 bits");
+  std::vector<uint8_t> out;
+  Writer w = begin_packet(out, 3, order, v3::kStartOfFrameId, v3::kStartOfFrameSize);
+  w.u8(2, 3);
+  w.u8(3, uint8_t(sof.database_id));
+  w.u8(4, sof.ig_status);
+  w.u8(5, uint8_t(sof.ig_mode | (sof.timestamp_valid ? 0x04 : 0) | (sof.earth_model_host_defined ? 0x08 : 0) |
+                  (sof.minor_version << 4)));
+  w.u16(6, 0x8000);  // in the message's byte order: the host's test for swapping
+  w.u32(8, sof.ig_frame_number);
+  w.u32(12, sof.timestamp_ticks);
+  w.u32(16, sof.last_host_frame_number);
+  return out;  // bytes 20-23 reserved, zero
+}
+
+IgMessage decode_ig_message(const uint8_t* data, size_t size) {
+  IgMessage out;
+  auto refuse = [&out](DecodeError e) {
+    out.error = std::move(e);
+    out.sof = StartOfFrame{};
+    out.skipped.clear();
+    return out;
+  };
+  if (data == nullptr || size == 0) return refuse(make_error(0, kNoPacketId, 0, "datagram", "empty datagram"));
+  if (size < 2 || data[0] != v3::kStartOfFrameId) {
+    std::ostringstream s;
+    s << "the first packet of an IG message must be a CIGI 3 Start of Frame (id 101); the " << size
+      << "-byte datagram starts";
+    for (size_t i = 0; i < std::min<size_t>(size, 5); ++i) s << ' ' << hex2(data[i]);
+    return refuse(make_error(0, kNoPacketId, 0, "Start of Frame", s.str()));
+  }
+  const uint32_t id = v3::kStartOfFrameId;
+  const size_t psize = data[1];
+  if (psize != v3::kStartOfFrameSize) {
+    std::string why = "size " + std::to_string(psize);
+    if (psize == 16) {
+      why += " is a CIGI 3.0/3.1 Start of Frame: only 3.2 and 3.3, of 24 bytes, are decoded";
+    } else if (psize > size) {
+      why += " runs past the datagram's end (" + std::to_string(size) + " bytes left)";
+    } else {
+      why += " is not the CIGI 3 size 24";
+      if (psize < v3::kStartOfFrameSize) why += " (truncated)";
+    }
+    return refuse(make_error(3, id, 0, "packet size", why));
+  }
+  if (size < v3::kStartOfFrameSize) {
+    return refuse(make_error(3, id, 0, "packet size",
+                             "size 24 runs past the datagram's end (" + std::to_string(size) + " bytes left)"));
+  }
+  if (data[2] != 3) {
+    return refuse(make_error(3, id, 0, "major version",
+                             "version " + std::to_string(data[2]) + "; only CIGI 3 (3.2, 3.3) is decoded"));
+  }
+  if (data[6] == 0x80 && data[7] == 0x00) {
+    out.byte_order = ByteOrder::Big;
+  } else if (data[6] == 0x00 && data[7] == 0x80) {
+    out.byte_order = ByteOrder::Little;
+  } else {
+    return refuse(make_error(3, id, 0, "byte-swap magic",
+                             "bytes " + hex2(data[6]) + " " + hex2(data[7]) +
+                                 " are neither 0x80 0x00 (big-endian) nor 0x00 0x80 (little-endian)"));
+  }
+  const Reader r(data, out.byte_order);
+  StartOfFrame& sof = out.sof;
+  sof.database_id = int8_t(r.u8(3));
+  sof.ig_status = r.u8(4);
+  const uint8_t f = r.u8(5);
+  sof.ig_mode = bits(f, 0x03, 0);
+  sof.timestamp_valid = f & 0x04;
+  sof.earth_model_host_defined = f & 0x08;
+  sof.minor_version = bits(f, 0xF0, 4);
+  sof.ig_frame_number = r.u32(8);
+  sof.timestamp_ticks = r.u32(12);
+  sof.last_host_frame_number = r.u32(16);
+
+  // The rest of the message (HAT/HOT responses, ...): skipped by size.
+  for (size_t offset = v3::kStartOfFrameSize; offset < size;) {
+    const size_t left = size - offset;
+    if (left < 2) {
+      return refuse(make_error(3, kNoPacketId, offset, "packet header",
+                               std::to_string(left) + " bytes left, a packet header needs 2"));
+    }
+    const uint32_t pid = data[offset];
+    const size_t n = data[offset + 1];
+    if (n == 0) return refuse(make_error(3, pid, offset, "packet size", "size 0"));
+    if (n < 2) return refuse(make_error(3, pid, offset, "packet size", "size 1 is below the 2-byte header"));
+    if (n > left) {
+      return refuse(make_error(3, pid, offset, "packet size",
+                               "size " + std::to_string(n) + " runs past the datagram's end (" +
+                                   std::to_string(left) + " bytes left)"));
+    }
+    if (pid == v3::kStartOfFrameId) {
+      return refuse(make_error(3, pid, offset, "packet id", "a second Start of Frame in one message"));
+    }
+    out.skipped.push_back({pid, offset, n});
+    offset += n;
+  }
+  return out;
 }
 
 // ---- the accumulated environment ------------------------------------------

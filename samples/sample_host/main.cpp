@@ -23,18 +23,6 @@
 #define ATMO_SAMPLE_DEFAULT_PLUGIN "libatmo.so"
 #endif
 
-namespace atmo::sample {
-
-bool fall_back_depth_convention(SceneSettings* settings) {
-  if (host_scene::depth_convention_supported(settings->depth_convention)) return false;
-  std::fprintf(stderr, "atmo-sample-host: %s depth needs glClipControl; using standard depth\n",
-               host_scene::to_string(settings->depth_convention));
-  settings->depth_convention = host_scene::DepthConvention::Standard;
-  return true;
-}
-
-}  // namespace atmo::sample
-
 int main(int argc, char** argv) {
   namespace sample = atmo::sample;
   sample::Options options;

@@ -26,10 +26,6 @@ struct Options {
   std::string objects_dir = ATMO_SAMPLE_OBJECTS_DIR;  // the apron's meshes and sphere sets (data/objects)
 };
 
-// SceneSettings::depth_convention falls back to Standard where the context
-// lacks glClipControl; returns true (with a note on stderr) if it changed.
-bool fall_back_depth_convention(SceneSettings* settings);
-
 // Process exit codes: 0 success, 1 a plugin error, 2 a host/GL setup failure.
 int run_window(const Options& options, SceneSettings settings);
 int run_headless(const Options& options, SceneSettings settings);

@@ -500,6 +500,7 @@ FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t
     auto frame = atmo::make<AtmoFrameState>(ATMO_TYPE_FRAME_STATE);
     frame.host_frame_number = frame_number;
     frame.utc_posix_s = settings.utc_posix_s;
+    frame.deferred_frames = settings.deferred_frames;
     context_->set_frame(frame);
     view_->set(hs::make_view_state(setup));
     report.lighting = view_->lighting();
@@ -590,6 +591,7 @@ FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t
       glBindFramebuffer(GL_FRAMEBUFFER, atmo_fbo_);
       for (int section = kSectionSky; section <= kSectionLightPoints; ++section) {
         const int pass = section_pass(section);
+        if (pass == ATMO_PASS_NIGHT_SKY && !settings.night_sky) continue;
         begin(section);
         try {
           report.pass_results[static_cast<size_t>(pass)] = view_->render(static_cast<AtmoPass>(pass));

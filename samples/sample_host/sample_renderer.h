@@ -105,6 +105,10 @@ class SampleRenderer {
   // it (the clouds are then unchanged).
   bool set_clouds(const SceneSettings& settings, std::string* message);
 
+  // The state the view's next pass draws from, hashed (get_state_hash); false before gl_init or from a plugin
+  // without it. Throws atmo::Error if the plugin refuses.
+  bool state_hash(AtmoStateHash* out) const { return view_ && view_->state_hash(out); }
+
   const AtmoPluginApi& api() const { return plugin_->api(); }
   const host_scene::Terrain& terrain() const { return *terrain_; }
 

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <vector>
 
+#include "atmo_host_scene/depth_setup.h"
 #include "atmo_host_scene/terrain.h"
 #include "core/astro/iso8601.h"
 
@@ -283,6 +284,14 @@ host_scene::CameraPose approach_path(double t) {
   pose.heading_deg = runway.runway_heading_deg;
   pose.pitch_deg = -3.0;
   return pose;
+}
+
+bool fall_back_depth_convention(SceneSettings* settings) {
+  if (host_scene::depth_convention_supported(settings->depth_convention)) return false;
+  std::fprintf(stderr, "atmo sample renderer: %s depth needs glClipControl; using standard depth\n",
+               host_scene::to_string(settings->depth_convention));
+  settings->depth_convention = host_scene::DepthConvention::Standard;
+  return true;
 }
 
 }  // namespace atmo::sample

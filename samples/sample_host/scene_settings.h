@@ -145,7 +145,15 @@ struct SceneSettings {
   // the objects): off, the objects are lit by the open sky and cast no shadow.
   bool object_shadows = true;
   bool object_bounce = true;  // false: ATMO_OCCLUSION_NO_BOUNCE
+  bool night_sky = true;  // false: ATMO_PASS_NIGHT_SKY is not drawn (a CIGI host's Star Field Enable off)
+  // AtmoFrameState.deferred_frames: work off the host's thread (new air tables, the clouds' lighting) lands at the
+  // frame it was asked at + this; 0: the plugin's ATMO_DEFERRED_FRAMES.
+  uint32_t deferred_frames = 0;
 };
+
+// [gl-current] SceneSettings::depth_convention falls back to Standard where
+// the context lacks glClipControl; returns true (with a note on stderr) if it changed.
+bool fall_back_depth_convention(SceneSettings* settings);
 
 // POSIX seconds ("1718982000") or an ISO 8601 UTC time stamp, read by the
 // plugin's parser (core/astro/iso8601.h: "2024-06-21T15:00:00Z",

@@ -14,54 +14,14 @@ usage: clouds_hide_stars.py SAMPLE_HOST PLUGIN OUT_DIR
 """
 import os
 import shutil
-import struct
 import subprocess
 import sys
-import zlib
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'support'))
+from png_rows import read_png  # noqa: E402
 
 PEAK = 20.0      # display levels (of 255) above the ring's mean
 SKY_ROWS = 56    # rows 0..55 of 144: above the deck's edge (~2 degrees up; the horizon is near row 65)
-
-
-def read_png(path):
-    """8-bit RGB(A) non-interlaced PNG as rows of grey levels (mean of R, G, B)."""
-    data = open(path, 'rb').read()
-    if data[:8] != b'\x89PNG\r\n\x1a\n':
-        sys.exit(f'{path}: not a PNG')
-    pos, idat = 8, b''
-    while pos < len(data):
-        n, = struct.unpack('>I', data[pos:pos + 4])
-        kind, chunk = data[pos + 4:pos + 8], data[pos + 8:pos + 8 + n]
-        pos += 12 + n
-        if kind == b'IHDR':
-            w, h, depth, colour, _, _, interlace = struct.unpack('>IIBBBBB', chunk)
-            if depth != 8 or colour not in (2, 6) or interlace:
-                sys.exit(f'{path}: depth {depth}, colour type {colour}, interlace {interlace}: not read here')
-        elif kind == b'IDAT':
-            idat += chunk
-    bpp = 4 if colour == 6 else 3
-    raw, stride = zlib.decompress(idat), w * bpp
-    rows, prev, i = [], bytearray(stride), 0
-    for _ in range(h):
-        f, line = raw[i], bytearray(raw[i + 1:i + 1 + stride])
-        i += 1 + stride
-        for x in range(stride):
-            a = line[x - bpp] if x >= bpp else 0
-            b = prev[x]
-            c = prev[x - bpp] if x >= bpp else 0
-            if f == 1:
-                line[x] = (line[x] + a) & 255
-            elif f == 2:
-                line[x] = (line[x] + b) & 255
-            elif f == 3:
-                line[x] = (line[x] + (a + b) // 2) & 255
-            elif f == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[x] = (line[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append([sum(line[x * bpp:x * bpp + 3]) / 3.0 for x in range(w)])
-        prev = line
-    return rows
 
 
 def excess(rows, x, y):

@@ -49,6 +49,8 @@ namespace v3 {
 constexpr uint8_t kIgControlId = 1, kCelestialId = 9, kAtmosphereId = 10, kRegionId = 11, kWeatherId = 12;
 constexpr uint8_t kIgControlSize = 24, kCelestialSize = 16, kAtmosphereSize = 32, kRegionSize = 48,
                   kWeatherSize = 56;
+// IG to host: Start of Frame (3.2/3.3; 3.0/3.1's is 16 bytes and not decoded).
+constexpr uint8_t kStartOfFrameId = 101, kStartOfFrameSize = 24;
 }  // namespace v3
 namespace v4 {
 constexpr uint16_t kIgControlId = 0, kCelestialId = 8, kAtmosphereId = 9, kRegionId = 10, kWeatherId = 11;
@@ -226,6 +228,53 @@ class Encoder {
 std::vector<uint8_t> encode(Version version, ByteOrder order, const std::vector<Event>& events);
 
 // ---------------------------------------------------------------------------
+// The IG's answer: Start of Frame (CIGI 3.2/3.3 only; CIGI 4.0's is not
+// written or read here). Layout: CCL 3.3 CigiSOFV3_2::Pack/Unpack and
+// Rinchi::CIGIPP::StartOfFrame agree; Wireshark's packet-cigi.c names the
+// same fields in the same order (docs/CIGI.md).
+
+// Start of Frame: "Every IG-to-Host message must contain exactly one Start of
+// Frame packet. This packet must be the first packet in the message" (the ICD
+// as Rinchi::CIGIPP quotes it).
+struct StartOfFrame {
+  uint8_t minor_version = 3;        // 2 or 3
+  int8_t database_id = 0;           // 0: the IG controls the database; < 0 loading; -128: cannot be loaded
+  uint8_t ig_status = 0;            // an IG-specific error code; 0: none
+  uint8_t ig_mode = 1;              // 0 reset/standby, 1 operate, 2 debug, 3 offline maintenance
+  bool timestamp_valid = false;
+  bool earth_model_host_defined = false;  // Earth Reference Model: WGS 84 (false) or the host's
+  uint32_t ig_frame_number = 0;     // the IG adds one every message
+  uint32_t timestamp_ticks = 0;     // 10 µs ticks since an IG-chosen reference
+  // "the value of the Host Frame Number attribute in the last IG Control
+  // packet received from the Host ... an acknowledgement that the IG received
+  // the last message".
+  uint32_t last_host_frame_number = 0;
+};
+bool operator==(const StartOfFrame& a, const StartOfFrame& b);
+inline bool operator!=(const StartOfFrame& a, const StartOfFrame& b) { return !(a == b); }
+
+// The 24-byte packet in `order` (the magic 0x8000 written in it). Throws
+// std::invalid_argument for a mode above 3 or a minor version above 15.
+std::vector<uint8_t> encode_start_of_frame(const StartOfFrame& sof, ByteOrder order);
+
+// One IG-to-host message (a datagram) decoded: its Start of Frame; the
+// packets after it are skipped by their size (listed), as decode() does.
+struct IgMessage {
+  std::optional<DecodeError> error;  // refused: sof is the default
+  ByteOrder byte_order = ByteOrder::Big;
+  StartOfFrame sof;
+  std::vector<SkippedPacket> skipped;
+  bool ok() const { return !error.has_value(); }
+};
+// Refused (with the packet, byte and field named, as decode()'s errors): an
+// empty datagram, a first packet that is not a 24-byte CIGI 3 Start of Frame
+// (a 3.0/3.1 one of 16 bytes by name), a bad byte-swap magic, a packet size of
+// 0 / below the header / past the end, a second Start of Frame. Reads only
+// inside [data, data + size).
+IgMessage decode_ig_message(const uint8_t* data, size_t size);
+inline IgMessage decode_ig_message(const std::vector<uint8_t>& b) { return decode_ig_message(b.data(), b.size()); }
+
+// ---------------------------------------------------------------------------
 // The environment the messages describe, accumulated.
 
 struct WeatherKey {
@@ -307,7 +356,7 @@ std::optional<double> utc_from_civil(unsigned year, unsigned month, unsigned day
 int coverage_pct_to_oktas(double coverage_pct);
 // The plugin's cloud type for a CIGI cloud type; nullopt: none drawn (None, 11-15).
 std::optional<AtmoCloudLayerType> plugin_cloud_type(uint8_t cigi_cloud_type);
-// A packet's name ("Weather Control") or "" for one not decoded here.
+// A packet's name ("Weather Control", "Start of Frame") or "" for one not decoded here.
 const char* packet_name(uint8_t major_version, uint32_t packet_id);
 
 }  // namespace atmo::cigi
