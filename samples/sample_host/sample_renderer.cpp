@@ -594,7 +594,7 @@ FrameReport SampleRenderer::render_frame(const SceneSettings& settings, uint64_t
         if (pass == ATMO_PASS_NIGHT_SKY && !settings.night_sky) continue;
         begin(section);
         try {
-          report.pass_results[static_cast<size_t>(pass)] = view_->render(static_cast<AtmoPass>(pass));
+          report.pass_results[static_cast<size_t>(pass)] = view_->render(static_cast<AtmoPassKind>(pass));
         } catch (const atmo::Error& e) {
           report.pass_results[static_cast<size_t>(pass)] = e.code();
           report.errors.push_back(e.what());

@@ -52,7 +52,7 @@ struct FrameReport {
   // Wall time of each section to glFinish, ms (render_frame's finish_sections; else NaN).
   std::array<double, kSectionCount> wall_ms{};
   bool timings_valid = false;
-  std::array<AtmoResult, ATMO_PASS_COUNT> pass_results{};  // by AtmoPass
+  std::array<AtmoResult, ATMO_PASS_COUNT> pass_results{};  // by AtmoPassKind
   AtmoLighting lighting{};          // from get_lighting
   AtmoFogLighting fog_lighting{};   // from get_fog_lighting (light_count 0: no lights)
   double fog_lighting_ms = 0.0;     // CPU time of get_fog_lighting (the lights' clusters for the terrain)

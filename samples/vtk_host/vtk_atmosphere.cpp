@@ -18,7 +18,7 @@ void column_major(vtkMatrix4x4* m, double out[16]) {
     for (int r = 0; r < 4; ++r) out[c * 4 + r] = m->GetElement(r, c);
 }
 
-const char* pass_name(AtmoPass pass) {
+const char* pass_name(AtmoPassKind pass) {
   switch (pass) {
     case ATMO_PASS_SKY: return "ATMO_PASS_SKY";
     case ATMO_PASS_AERIAL_PERSPECTIVE: return "ATMO_PASS_AERIAL_PERSPECTIVE";
@@ -146,7 +146,7 @@ bool VtkAtmosphere::begin_frame(vtkRenderer* renderer, int width, int height, un
   return true;
 }
 
-void VtkAtmosphere::draw(AtmoPass pass, vtkOpenGLRenderWindow* window) {
+void VtkAtmosphere::draw(AtmoPassKind pass, vtkOpenGLRenderWindow* window) {
   if (!gl_ready_) return;
   proof_.before(window, pass_name(pass));
   AtmoResult r = ATMO_SUCCESS;

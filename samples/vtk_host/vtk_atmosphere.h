@@ -47,14 +47,14 @@ class VtkAtmosphere {
   // width x height at (0, 0) whose depth is `depth_texture`; then get_lighting. No GL.
   bool begin_frame(vtkRenderer* renderer, int width, int height, unsigned depth_texture);
   // [gl-current] One pass into the bound framebuffer, between GlStateProof's checks.
-  void draw(AtmoPass pass, vtkOpenGLRenderWindow* window);
+  void draw(AtmoPassKind pass, vtkOpenGLRenderWindow* window);
 
   const AtmoLighting& lighting() const { return lighting_; }
   const AtmosphereSettings& settings() const { return settings_; }
   GlStateProof& proof() { return proof_; }
   // Plugin errors (refused calls, error-level log lines), in order.
   std::vector<std::string> errors() const;
-  // How often each pass drew (ATMO_SUCCESS) and had nothing to draw, by AtmoPass.
+  // How often each pass drew (ATMO_SUCCESS) and had nothing to draw, by AtmoPassKind.
   std::array<uint32_t, ATMO_PASS_COUNT> drawn{}, nothing_to_draw{};
 
  private:
