@@ -387,7 +387,7 @@ std::string hex2(uint8_t b) {
 }  // namespace
 
 const char* packet_name(uint8_t major, uint32_t id) {
-  if (major == 3 && id == v3::kStartOfFrameId) return "Start of Frame";
+  if ((major == 3 && id == v3::kStartOfFrameId) || (major == 4 && id == v4::kStartOfFrameId)) return "Start of Frame";
   switch (kind_of(major, id)) {
     case Kind::Ig: return "IG Control";
     case Kind::Celestial: return "Celestial Sphere Control";
@@ -787,21 +787,34 @@ bool operator==(const StartOfFrame& a, const StartOfFrame& b) {
                   b.earth_model_host_defined, b.ig_frame_number, b.timestamp_ticks, b.last_host_frame_number);
 }
 
-std::vector<uint8_t> encode_start_of_frame(const StartOfFrame& sof, ByteOrder order) {
+std::vector<uint8_t> encode_start_of_frame(const StartOfFrame& sof, ByteOrder order, uint8_t major_version) {
+  require(major_version == 3 || major_version == 4, "major version is 3 or 4");
   require(sof.ig_mode <= 3, "IG mode is 2 bits");
   require(sof.minor_version <= 15, "minor version is 4 bits");
+  const uint8_t flags = uint8_t(sof.ig_mode | (sof.timestamp_valid ? 0x04 : 0) |
+                                (sof.earth_model_host_defined ? 0x08 : 0) | (sof.minor_version << 4));
   std::vector<uint8_t> out;
-  Writer w = begin_packet(out, 3, order, v3::kStartOfFrameId, v3::kStartOfFrameSize);
-  w.u8(2, 3);
-  w.u8(3, uint8_t(sof.database_id));
-  w.u8(4, sof.ig_status);
-  w.u8(5, uint8_t(sof.ig_mode | (sof.timestamp_valid ? 0x04 : 0) | (sof.earth_model_host_defined ? 0x08 : 0) |
-                  (sof.minor_version << 4)));
-  w.u16(6, 0x8000);  // in the message's byte order: the host's test for swapping
+  if (major_version == 3) {
+    Writer w = begin_packet(out, 3, order, v3::kStartOfFrameId, v3::kStartOfFrameSize);
+    w.u8(2, 3);
+    w.u8(3, uint8_t(sof.database_id));
+    w.u8(4, sof.ig_status);
+    w.u8(5, flags);
+    w.u16(6, 0x8000);  // in the message's byte order: the host's test for swapping
+    w.u32(8, sof.ig_frame_number);
+    w.u32(12, sof.timestamp_ticks);
+    w.u32(16, sof.last_host_frame_number);
+    return out;  // bytes 20-23 reserved, zero
+  }
+  Writer w = begin_packet(out, 4, order, v4::kStartOfFrameId, v4::kStartOfFrameSize);
+  w.u8(4, 4);
+  w.u8(5, uint8_t(sof.database_id));
+  w.u8(6, sof.ig_status);
+  w.u8(7, flags);
   w.u32(8, sof.ig_frame_number);
   w.u32(12, sof.timestamp_ticks);
   w.u32(16, sof.last_host_frame_number);
-  return out;  // bytes 20-23 reserved, zero
+  return out;  // bytes 20-21: condition flags (none raised), 22-23 reserved
 }
 
 IgMessage decode_ig_message(const uint8_t* data, size_t size) {
@@ -813,15 +826,26 @@ IgMessage decode_ig_message(const uint8_t* data, size_t size) {
     return out;
   };
   if (data == nullptr || size == 0) return refuse(make_error(0, kNoPacketId, 0, "datagram", "empty datagram"));
-  if (size < 2 || data[0] != v3::kStartOfFrameId) {
+  // CIGI 3: id 101 in byte 0, the size in byte 1. CIGI 4.0: the 16-bit size 24 first (a zero leftmost byte:
+  // big-endian), then the id 0xFFFF.
+  uint8_t major = 0;
+  if (size >= 2 && data[0] == v3::kStartOfFrameId) {
+    major = 3;
+  } else if (size >= 4 && data[2] == 0xFF && data[3] == 0xFF &&
+             ((data[0] == 0 && data[1] == v4::kStartOfFrameSize) || (data[0] == v4::kStartOfFrameSize && data[1] == 0))) {
+    major = 4;
+    out.byte_order = data[0] == 0 ? ByteOrder::Big : ByteOrder::Little;
+  } else {
     std::ostringstream s;
-    s << "the first packet of an IG message must be a CIGI 3 Start of Frame (id 101); the " << size
-      << "-byte datagram starts";
+    s << "the first packet of an IG message must be a Start of Frame (CIGI 3: id 101; CIGI 4.0: size 24, id "
+         "0xFFFF); the "
+      << size << "-byte datagram starts";
     for (size_t i = 0; i < std::min<size_t>(size, 5); ++i) s << ' ' << hex2(data[i]);
     return refuse(make_error(0, kNoPacketId, 0, "Start of Frame", s.str()));
   }
-  const uint32_t id = v3::kStartOfFrameId;
-  const size_t psize = data[1];
+  out.version.major = major;
+  const uint32_t id = major == 3 ? v3::kStartOfFrameId : v4::kStartOfFrameId;
+  const size_t psize = major == 3 ? data[1] : v4::kStartOfFrameSize;
   if (psize != v3::kStartOfFrameSize) {
     std::string why = "size " + std::to_string(psize);
     if (psize == 16) {
@@ -834,54 +858,72 @@ IgMessage decode_ig_message(const uint8_t* data, size_t size) {
     }
     return refuse(make_error(3, id, 0, "packet size", why));
   }
-  if (size < v3::kStartOfFrameSize) {
-    return refuse(make_error(3, id, 0, "packet size",
+  if (size < psize) {
+    return refuse(make_error(major, id, 0, "packet size",
                              "size 24 runs past the datagram's end (" + std::to_string(size) + " bytes left)"));
   }
-  if (data[2] != 3) {
-    return refuse(make_error(3, id, 0, "major version",
-                             "version " + std::to_string(data[2]) + "; only CIGI 3 (3.2, 3.3) is decoded"));
+  const size_t version_at = major == 3 ? 2 : 4;
+  if (data[version_at] != major) {
+    return refuse(make_error(major, id, 0, "major version",
+                             "version " + std::to_string(data[version_at]) +
+                                 (major == 3 ? " in a CIGI 3 Start of Frame" : " in a CIGI 4.0 Start of Frame")));
   }
-  if (data[6] == 0x80 && data[7] == 0x00) {
-    out.byte_order = ByteOrder::Big;
-  } else if (data[6] == 0x00 && data[7] == 0x80) {
-    out.byte_order = ByteOrder::Little;
-  } else {
-    return refuse(make_error(3, id, 0, "byte-swap magic",
-                             "bytes " + hex2(data[6]) + " " + hex2(data[7]) +
-                                 " are neither 0x80 0x00 (big-endian) nor 0x00 0x80 (little-endian)"));
+  if (major == 3) {
+    if (data[6] == 0x80 && data[7] == 0x00) {
+      out.byte_order = ByteOrder::Big;
+    } else if (data[6] == 0x00 && data[7] == 0x80) {
+      out.byte_order = ByteOrder::Little;
+    } else {
+      return refuse(make_error(3, id, 0, "byte-swap magic",
+                               "bytes " + hex2(data[6]) + " " + hex2(data[7]) +
+                                   " are neither 0x80 0x00 (big-endian) nor 0x00 0x80 (little-endian)"));
+    }
   }
   const Reader r(data, out.byte_order);
   StartOfFrame& sof = out.sof;
-  sof.database_id = int8_t(r.u8(3));
-  sof.ig_status = r.u8(4);
-  const uint8_t f = r.u8(5);
+  sof.database_id = int8_t(r.u8(major == 3 ? 3 : 5));
+  sof.ig_status = r.u8(major == 3 ? 4 : 6);
+  const uint8_t f = r.u8(major == 3 ? 5 : 7);
   sof.ig_mode = bits(f, 0x03, 0);
   sof.timestamp_valid = f & 0x04;
   sof.earth_model_host_defined = f & 0x08;
   sof.minor_version = bits(f, 0xF0, 4);
+  out.version.minor = sof.minor_version;
   sof.ig_frame_number = r.u32(8);
   sof.timestamp_ticks = r.u32(12);
   sof.last_host_frame_number = r.u32(16);
 
   // The rest of the message (HAT/HOT responses, ...): skipped by size.
-  for (size_t offset = v3::kStartOfFrameSize; offset < size;) {
+  const size_t header = major == 3 ? 2 : 4;
+  for (size_t offset = psize; offset < size;) {
     const size_t left = size - offset;
-    if (left < 2) {
-      return refuse(make_error(3, kNoPacketId, offset, "packet header",
-                               std::to_string(left) + " bytes left, a packet header needs 2"));
+    if (left < header) {
+      return refuse(make_error(major, kNoPacketId, offset, "packet header",
+                               std::to_string(left) + " bytes left, a packet header needs " + std::to_string(header)));
     }
-    const uint32_t pid = data[offset];
-    const size_t n = data[offset + 1];
-    if (n == 0) return refuse(make_error(3, pid, offset, "packet size", "size 0"));
-    if (n < 2) return refuse(make_error(3, pid, offset, "packet size", "size 1 is below the 2-byte header"));
+    uint32_t pid;
+    size_t n;
+    if (major == 3) {
+      pid = data[offset];
+      n = data[offset + 1];
+    } else {
+      const Reader h(data + offset, out.byte_order);
+      n = h.u16(0);
+      pid = h.u16(2);
+    }
+    if (n == 0) return refuse(make_error(major, pid, offset, "packet size", "size 0"));
+    if (n < header) {
+      return refuse(make_error(major, pid, offset, "packet size",
+                               "size " + std::to_string(n) + " is below the " + std::to_string(header) +
+                                   "-byte header"));
+    }
     if (n > left) {
-      return refuse(make_error(3, pid, offset, "packet size",
+      return refuse(make_error(major, pid, offset, "packet size",
                                "size " + std::to_string(n) + " runs past the datagram's end (" +
                                    std::to_string(left) + " bytes left)"));
     }
-    if (pid == v3::kStartOfFrameId) {
-      return refuse(make_error(3, pid, offset, "packet id", "a second Start of Frame in one message"));
+    if (pid == id) {
+      return refuse(make_error(major, pid, offset, "packet id", "a second Start of Frame in one message"));
     }
     out.skipped.push_back({pid, offset, n});
     offset += n;

@@ -1,6 +1,7 @@
-// atmo-cigi-host-emulator: a scripted CIGI 3.3 host for atmo-cigi-ig. It
-// sends four states through cigi.h's encoder — noon in clear air (50 km),
-// noon at 2 km, noon under an overcast deck, a clear night — each for
+// atmo-cigi-host-emulator: a scripted CIGI host for atmo-cigi-ig. It sends
+// four states through cigi.h's encoder — noon in clear air (50 km), noon at
+// 2 km, noon under an overcast deck (3.3, little-endian), a clear night (4.0)
+// — each for
 // --frames-per-state host frames (the packets in the first, an IG Control
 // alone in the rest, as a host sends every frame: the IG draws a change from
 // its --deferred-frames D on, so D or more frames a state draw its last frame
@@ -42,9 +43,9 @@ constexpr float kClearVisibilityM = 50000, kLowVisibilityM = 2000;
 constexpr float kDeckBaseMslM = 1500, kDeckThicknessM = 800;
 constexpr uint32_t kFirstHostFrame = 1000;  // far from the IG's own count, so an echo cannot be mistaken
 
-cigi::IgControl ig_control(uint32_t host_frame) {
+cigi::IgControl ig_control(uint32_t host_frame, uint8_t minor_version = 3) {
   cigi::IgControl ig;
-  ig.minor_version = 3;
+  ig.minor_version = minor_version;  // 3.3, or 4.0
   ig.ig_mode = 1;  // operate
   ig.host_frame_number = host_frame;
   return ig;
@@ -109,6 +110,7 @@ struct Step {
   std::vector<uint8_t> bytes;
   bool frame = false;
   cigi::ByteOrder order = cigi::ByteOrder::Big;
+  cigi::Version version{3, 3};
   uint32_t host_frame = 0;
   // A frame: its state (0, 1, ...: the script's order), whether it is the state's last frame (drawn with it
   // whatever the deferral), and what the IG should draw with.
@@ -130,10 +132,11 @@ std::vector<Step> script(int frames_per_state) {
   uint32_t host = kFirstHostFrame;
   int state = 0;
   const auto frame = [&](const std::string& label, cigi::ByteOrder order, std::vector<cigi::Event> events,
-                         std::vector<std::pair<uint32_t, size_t>> raw, double t, double vis, int clouds) {
+                         std::vector<std::pair<uint32_t, size_t>> raw, double t, double vis, int clouds,
+                         cigi::Version version = {3, 3}) {
     for (int i = 0; i < frames_per_state; ++i) {
-      cigi::Encoder e(v33, order);
-      e.add(ig_control(host));
+      cigi::Encoder e(version, order);
+      e.add(ig_control(host, version.minor));
       if (i == 0) {
         for (const cigi::Event& ev : events) e.add(ev);
         for (const auto& [id, size] : raw) e.add_raw(id, size);
@@ -143,6 +146,7 @@ std::vector<Step> script(int frames_per_state) {
       s.bytes = e.bytes();
       s.frame = true;
       s.order = order;
+      s.version = version;
       s.host_frame = host++;
       s.state = state;
       s.last_of_state = i == frames_per_state - 1;
@@ -212,8 +216,10 @@ std::vector<Step> script(int frames_per_state) {
     bad("a CIGI 3.1 IG Control", b, "a CIGI 3.0/3.1 IG Control");
   }
 
-  frame("night, clear air (the deck's layer disabled)", cigi::ByteOrder::Big,
-        {celestial(kNightHour, kNightMinute), overcast_deck(false)}, {}, night, kClearVisibilityM, 0);
+  // A CIGI 4.0 host (little-endian: the size field's zero byte comes second), answered with a 4.0 Start of Frame.
+  frame("night, clear air (the deck's layer disabled; a CIGI 4.0 little-endian host)", cigi::ByteOrder::Little,
+        {celestial(kNightHour, kNightMinute), overcast_deck(false)}, {}, night, kClearVisibilityM, 0,
+        cigi::Version{4, 0});
   return steps;
 }
 
@@ -235,7 +241,7 @@ int main(int argc, char** argv) {
   uint16_t port = 0;
   double sof_timeout_s = 30;
   int frames_per_state = 2;
-  CLI::App app{"A scripted CIGI 3.3 host for atmo-cigi-ig: four states (noon to night, 50 km to 2 km, an overcast "
+  CLI::App app{"A scripted CIGI 3.3/4.0 host for atmo-cigi-ig: four states (noon to night, 50 km to 2 km, an overcast "
                "deck) and bad datagrams between them; each frame waits for the IG's Start of Frame."};
   app.add_option("--ig", ig_address, "The IG's IPv4 address")->capture_default_str();
   app.add_option("--port", port, "The IG's UDP port")->required()->check(CLI::Range(1, 65535));
@@ -316,15 +322,18 @@ int main(int argc, char** argv) {
       return 1;
     }
     const cigi::StartOfFrame& sof = m.sof;
-    std::printf("sent host frame %u, %s (%zu bytes, %s-endian); Start of Frame %u (last host frame %u, %s-endian, "
-                "mode %u) after %.0f ms\n",
-                step.host_frame, step.label.c_str(), step.bytes.size(), order_name(step.order), sof.ig_frame_number,
-                sof.last_host_frame_number, order_name(m.byte_order), sof.ig_mode, ms);
+    std::printf("sent host frame %u, %s (%zu bytes, CIGI %d.%d %s-endian); Start of Frame %u (last host frame %u, "
+                "CIGI %d.%d %s-endian, mode %u) after %.0f ms\n",
+                step.host_frame, step.label.c_str(), step.bytes.size(), step.version.major, step.version.minor,
+                order_name(step.order), sof.ig_frame_number, sof.last_host_frame_number, m.version.major,
+                m.version.minor, order_name(m.byte_order), sof.ig_mode, ms);
     line << ",\"frame\":true,\"host_frame\":" << step.host_frame << ",\"state\":" << step.state
          << ",\"last_of_state\":" << (step.last_of_state ? "true" : "false") << ",\"byte_order\":\"" << order_name(step.order)
+         << "\",\"version\":\"" << int(step.version.major) << '.' << int(step.version.minor)
          << "\",\"utc_posix_s\":" << step.utc_posix_s << ",\"visibility_m\":" << step.visibility_m
          << ",\"cloud_layers\":" << step.cloud_layers << ",\"sof\":{\"ig_frame\":" << sof.ig_frame_number
          << ",\"last_host_frame\":" << sof.last_host_frame_number << ",\"byte_order\":\"" << order_name(m.byte_order)
+         << "\",\"version\":\"" << int(m.version.major) << '.' << int(m.version.minor)
          << "\",\"ms\":" << std::lround(ms) << "}}";
     if (report.is_open()) report << line.str() << '\n' << std::flush;
     if (sof.last_host_frame_number != step.host_frame) {

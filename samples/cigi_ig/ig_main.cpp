@@ -4,8 +4,8 @@
 // (a message accepted whole; its first packet is an IG Control) maps it onto
 // the plugin (to_plugin), renders the sample host's scene headless (terrain,
 // sky, aerial perspective, night sky, clouds: samples/sample_host's
-// SampleRenderer) and answers the sender with a CIGI 3.3 Start of Frame that
-// echoes the host's frame number. docs/CIGI.md, "atmo-cigi-ig".
+// SampleRenderer) and answers the sender with a Start of Frame of the host's
+// CIGI version and byte order that echoes the host's frame number. docs/CIGI.md, "atmo-cigi-ig".
 //
 //   atmo-cigi-ig [--bind 127.0.0.1] [--port 8004] [--port-file F] [--frames N] [--idle-timeout S]
 //                [--out DIR] [--state-log FILE] [--plugin PATH] [--deferred-frames D]
@@ -283,7 +283,7 @@ int main(int argc, char** argv) {
   if (status == 0) {
     std::printf("atmo-cigi-ig: GL %s, %s; plugin %s; %dx%d\n", gl->version().c_str(), gl->renderer().c_str(),
                 renderer->api().plugin_name, o.width, o.height);
-    std::printf("atmo-cigi-ig: listening on %s:%u (CIGI 3.3 or 4.0 host messages; Start of Frame answered to CIGI 3)\n",
+    std::printf("atmo-cigi-ig: listening on %s:%u (CIGI 3.3 or 4.0 host messages; each answered in its version)\n",
                 o.bind.c_str(), port);
     if (!o.port_file.empty() && !write_port_file(o.port_file, port, &error)) {
       std::fprintf(stderr, "atmo-cigi-ig: --port-file: %s\n", error.c_str());
@@ -299,7 +299,6 @@ int main(int argc, char** argv) {
   inputs.clouds_origin_geodetic[2] = settings.origin.height_m;
   std::set<std::string> notes_said;  // to_plugin's notes, each said once
   std::set<size_t> packets_seen;     // kinds of packet received (Event's index), to say once what is not drawn
-  bool said_no_sof_40 = false;
   uint32_t ig_frame = 0;
   int rendered = 0, refused = 0;
   const auto start = std::chrono::steady_clock::now();
@@ -404,29 +403,25 @@ int main(int argc, char** argv) {
       state_log.flush();
     }
 
-    // The answer: a CIGI 3.3 Start of Frame, in the byte order the host wrote (a host that cannot swap reads it as
-    // is; one that can reads the magic). CIGI 4.0's Start of Frame is not written here.
-    std::string answer = "no Start of Frame (CIGI 4.0 host)";
-    if (d.version.major == 3) {
-      cigi::StartOfFrame sof;
-      sof.ig_frame_number = ig_frame;
-      sof.last_host_frame_number = ig.host_frame_number;
-      sof.ig_mode = ig.ig_mode <= 2 ? ig.ig_mode : 1;  // offline maintenance (3) is the IG's own to enter
-      sof.database_id = ig.database_id > 0 ? -128 : 0;  // one built-in terrain: a requested database cannot load
-      sof.timestamp_valid = true;
-      sof.timestamp_ticks = static_cast<uint32_t>(
-          std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - start).count() /
-          10);
-      if (!socket.send_to(from, cigi::encode_start_of_frame(sof, d.byte_order), &error)) {
-        std::fprintf(stderr, "atmo-cigi-ig: %s\n", error.c_str());
-        status = 2;
-        break;
-      }
-      answer = "Start of Frame " + std::to_string(ig_frame) + " (" + order_name(d.byte_order) + "-endian) to " + sender;
-    } else if (!said_no_sof_40) {
-      std::printf("atmo-cigi-ig: a CIGI 4.0 host: its frames are drawn but not answered (no 4.0 Start of Frame)\n");
-      said_no_sof_40 = true;
+    // The answer: a Start of Frame in the host's CIGI version and byte order (a host that cannot swap reads it as
+    // is; a CIGI 3 host that can reads the magic).
+    cigi::StartOfFrame sof;
+    sof.minor_version = d.version.major == 3 ? 3 : 0;
+    sof.ig_frame_number = ig_frame;
+    sof.last_host_frame_number = ig.host_frame_number;
+    sof.ig_mode = ig.ig_mode <= 2 ? ig.ig_mode : 1;  // offline maintenance (3) is the IG's own to enter
+    sof.database_id = ig.database_id > 0 ? -128 : 0;  // one built-in terrain: a requested database cannot load
+    sof.timestamp_valid = true;
+    sof.timestamp_ticks = static_cast<uint32_t>(
+        std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - start).count() / 10);
+    if (!socket.send_to(from, cigi::encode_start_of_frame(sof, d.byte_order, d.version.major), &error)) {
+      std::fprintf(stderr, "atmo-cigi-ig: %s\n", error.c_str());
+      status = 2;
+      break;
     }
+    const std::string answer = "Start of Frame " + std::to_string(ig_frame) + " (CIGI " +
+                               std::to_string(d.version.major) + ", " + order_name(d.byte_order) + "-endian) to " +
+                               sender;
     std::printf("atmo-cigi-ig: frame %u: host frame %u (CIGI %d.%d %s-endian from %s): %s%s, visibility %.0f m, "
                 "%s, %s%s; drawn in %.0f ms; %s\n",
                 ig_frame, ig.host_frame_number, d.version.major, d.version.minor, order_name(d.byte_order),

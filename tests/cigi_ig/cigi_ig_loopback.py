@@ -139,8 +139,9 @@ def main():
               f"{what}: logged as host frame {s['host_frame']}, IG frame {s['ig_frame']}; Start of Frame "
               f"{r['sof']['ig_frame']} echoes host frame {r['sof']['last_host_frame']}")
         check(r['sof']['last_host_frame'] == r['host_frame'] and r['sof']['byte_order'] == r['byte_order'] and
-              s['byte_order'] == r['byte_order'],
-              f"{what}: {r['byte_order']}-endian, answered {r['sof']['byte_order']}-endian after {r['sof']['ms']} ms")
+              s['byte_order'] == r['byte_order'] and r['sof']['version'].split('.')[0] == r['version'].split('.')[0],
+              f"{what}: CIGI {r['version']} {r['byte_order']}-endian, answered CIGI {r['sof']['version']} "
+              f"{r['sof']['byte_order']}-endian after {r['sof']['ms']} ms")
         check(s['time_from_cigi'] and abs(s['utc_posix_s'] - r['utc_posix_s']) < 1e-3,
               f"{what}: time {s['utc']} ({s['utc_posix_s']:.0f} s; sent {r['utc_posix_s']:.0f} s)")
         check(abs(s['visibility_m'] - r['visibility_m']) < 1e-3,

@@ -56,6 +56,9 @@ namespace v4 {
 constexpr uint16_t kIgControlId = 0, kCelestialId = 8, kAtmosphereId = 9, kRegionId = 10, kWeatherId = 11;
 constexpr uint16_t kIgControlSize = 24, kCelestialSize = 24, kAtmosphereSize = 32, kRegionSize = 48,
                    kWeatherSize = 72;
+// IG to host: Start of Frame (CCL 4.0 CigiBaseSOF.h / CigiSOFV4.cpp; id and size confirmed by the Wireshark
+// fork's CIGI 4 dissector, which disagrees on where the flags sit: docs/CIGI.md).
+constexpr uint16_t kStartOfFrameId = 0xFFFF, kStartOfFrameSize = 24;
 }  // namespace v4
 
 // Weather layer identifiers (CIGI 3.3 and 4.0 alike).
@@ -228,16 +231,17 @@ class Encoder {
 std::vector<uint8_t> encode(Version version, ByteOrder order, const std::vector<Event>& events);
 
 // ---------------------------------------------------------------------------
-// The IG's answer: Start of Frame (CIGI 3.2/3.3 only; CIGI 4.0's is not
-// written or read here). Layout: CCL 3.3 CigiSOFV3_2::Pack/Unpack and
-// Rinchi::CIGIPP::StartOfFrame agree; Wireshark's packet-cigi.c names the
-// same fields in the same order (docs/CIGI.md).
+// The IG's answer: Start of Frame, CIGI 3.2/3.3 and 4.0. 3.x layout: CCL 3.3
+// CigiSOFV3_2::Pack/Unpack and Rinchi::CIGIPP::StartOfFrame agree; Wireshark's
+// packet-cigi.c names the same fields in the same order. 4.0 layout: CCL 4.0
+// CigiSOFV4 (flags in byte 7, IG status in byte 6, 16-bit condition flags at
+// 20, written 0); only its id and size are confirmed elsewhere (docs/CIGI.md).
 
 // Start of Frame: "Every IG-to-Host message must contain exactly one Start of
 // Frame packet. This packet must be the first packet in the message" (the ICD
 // as Rinchi::CIGIPP quotes it).
 struct StartOfFrame {
-  uint8_t minor_version = 3;        // 2 or 3
+  uint8_t minor_version = 3;        // 3.x: 2 or 3; 4.x: 0
   int8_t database_id = 0;           // 0: the IG controls the database; < 0 loading; -128: cannot be loaded
   uint8_t ig_status = 0;            // an IG-specific error code; 0: none
   uint8_t ig_mode = 1;              // 0 reset/standby, 1 operate, 2 debug, 3 offline maintenance
@@ -253,24 +257,27 @@ struct StartOfFrame {
 bool operator==(const StartOfFrame& a, const StartOfFrame& b);
 inline bool operator!=(const StartOfFrame& a, const StartOfFrame& b) { return !(a == b); }
 
-// The 24-byte packet in `order` (the magic 0x8000 written in it). Throws
-// std::invalid_argument for a mode above 3 or a minor version above 15.
-std::vector<uint8_t> encode_start_of_frame(const StartOfFrame& sof, ByteOrder order);
+// The 24-byte packet of CIGI `major_version` 3 (the magic 0x8000 written in
+// it) or 4 (the byte order is the size field's) in `order`. Throws
+// std::invalid_argument for a mode above 3, a minor version above 15 or a
+// major version other than 3 and 4. Answer a host in its own version.
+std::vector<uint8_t> encode_start_of_frame(const StartOfFrame& sof, ByteOrder order, uint8_t major_version = 3);
 
 // One IG-to-host message (a datagram) decoded: its Start of Frame; the
 // packets after it are skipped by their size (listed), as decode() does.
 struct IgMessage {
   std::optional<DecodeError> error;  // refused: sof is the default
+  Version version;                   // 3.x or 4.0, from the Start of Frame
   ByteOrder byte_order = ByteOrder::Big;
   StartOfFrame sof;
   std::vector<SkippedPacket> skipped;
   bool ok() const { return !error.has_value(); }
 };
 // Refused (with the packet, byte and field named, as decode()'s errors): an
-// empty datagram, a first packet that is not a 24-byte CIGI 3 Start of Frame
-// (a 3.0/3.1 one of 16 bytes by name), a bad byte-swap magic, a packet size of
-// 0 / below the header / past the end, a second Start of Frame. Reads only
-// inside [data, data + size).
+// empty datagram, a first packet that is not a 24-byte CIGI 3 or 4.0 Start of
+// Frame (a 3.0/3.1 one of 16 bytes by name), a bad byte-swap magic or major
+// version, a packet size of 0 / below the header / past the end, a second
+// Start of Frame. Reads only inside [data, data + size).
 IgMessage decode_ig_message(const uint8_t* data, size_t size);
 inline IgMessage decode_ig_message(const std::vector<uint8_t>& b) { return decode_ig_message(b.data(), b.size()); }
 
