@@ -69,6 +69,28 @@ AtmoBridge::AtmoBridge(const Settings& settings) : settings_(settings) {
   services.gl_get_proc_address = &get_proc_address;
   context_ = std::make_unique<atmo::Context>(*plugin_, &services);
   view_ = std::make_unique<atmo::View>(*context_, 0);
+  // The weather, once (no GL): fog and the runway's lights glowing in it, a cumulus layer.
+  const hs::Geodetic& o = settings_.origin;
+  if (settings_.fog_visibility_m > 0.0) {
+    auto fog = atmo::make<AtmoFogState>(ATMO_TYPE_FOG_STATE);
+    fog.visibility_m = settings_.fog_visibility_m;
+    fog.top_height_m = o.height_m + settings_.fog_top_m;
+    context_->set_fog(fog);
+  }
+  if (!settings_.lights.empty())
+    context_->set_lights(atmo::lights_state(0, settings_.lights, o.latitude_deg, o.longitude_deg, o.height_m));
+  if (settings_.cumulus_oktas > 0) {
+    auto layer = atmo::make<AtmoCloudLayer>(ATMO_TYPE_CLOUD_LAYER);
+    layer.type = ATMO_CLOUD_CUMULUS;
+    layer.coverage_oktas = settings_.cumulus_oktas;
+    layer.base_m = 1200.0;
+    layer.top_m = 2500.0;
+    layer.area_size_m = 6000.0;  // over the airfield: cheap to generate
+    layer.seed = 1;
+    auto clouds = atmo::clouds_state(o.latitude_deg, o.longitude_deg, o.height_m, &layer, 1);
+    clouds.setup = ATMO_CLOUD_SETUP_WAIT;  // each frame a function of the inputs (tests, pictures)
+    if (context_->set_clouds(clouds) < 0) throw atmo::Error(ATMO_ERROR_IO, "set_clouds: " + context_->last_error());
+  }
 }
 
 AtmoBridge::~AtmoBridge() {

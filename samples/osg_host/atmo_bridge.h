@@ -51,6 +51,10 @@ class AtmoBridge {
     double utc_posix_s = 0.0;
     double visibility_m = 0.0;    // 0: the plugin's default
     double exposure_scale = 1.0;
+    double fog_visibility_m = 0.0;  // ground fog's MOR; 0: none
+    double fog_top_m = 80.0;        // above the datum
+    std::vector<AtmoLightPoint> lights;  // ENU at the origin (the terrain's runway lights)
+    int cumulus_oktas = 0;          // a cumulus layer 1200-2500 m over 6 km; 0: no clouds
     bool inject_leak = false;     // test of the checks: change GL state behind OSG's back after a pass
   };
 

@@ -42,10 +42,13 @@ constexpr double kNearM = 1.0, kFarM = 200000.0, kVerticalFovDeg = 50.0;
 // The headless camera: on the approach to the runway (heading east), 250 m over the airfield datum, 150 m
 // further each frame, looking 5 degrees down: the airfield ahead, the hills up to the terrain's edge 20 km
 // away, the sky above.
-osg::Matrixd headless_view(int frame) {
-  const osg::Vec3d eye(-3600.0 + 150.0 * frame, -40.0, 250.0);
-  const double pitch = osg::DegreesToRadians(-5.0);
-  const osg::Vec3d forward(std::cos(pitch), 0.0, std::sin(pitch));
+// --eye and --look instead: a fixed camera.
+osg::Matrixd headless_view(int frame, const std::vector<double>& eye_enu, const std::vector<double>& look_deg) {
+  const osg::Vec3d eye = eye_enu.size() == 3 ? osg::Vec3d(eye_enu[0], eye_enu[1], eye_enu[2])
+                                             : osg::Vec3d(-3600.0 + 150.0 * frame, -40.0, 250.0);
+  const double heading = osg::DegreesToRadians(look_deg.size() == 2 ? look_deg[0] : 90.0);
+  const double pitch = osg::DegreesToRadians(look_deg.size() == 2 ? look_deg[1] : -5.0);
+  const osg::Vec3d forward(std::sin(heading) * std::cos(pitch), std::cos(heading) * std::cos(pitch), std::sin(pitch));
   return osg::Matrixd::lookAt(eye, eye + forward, osg::Vec3d(0, 0, 1));
 }
 
@@ -155,6 +158,17 @@ int main(int argc, char** argv) {
   app.add_option("--visibility", settings.visibility_m, "Meteorological visibility, m (0: the plugin's default)")
       ->check(CLI::Range(0.0, 500000.0))->capture_default_str();
   app.add_option("--ev", ev100, "Exposure, EV100")->capture_default_str();
+  std::vector<double> eye_enu, look_deg;
+  app.add_option("--eye", eye_enu, "Fixed camera at EAST,NORTH,UP metres from the airfield datum (default: the approach)")
+      ->expected(3)->delimiter(',');
+  app.add_option("--look", look_deg, "HEADING,PITCH of the camera, degrees (default 90,-5: east, 5 down)")
+      ->expected(2)->delimiter(',');
+  app.add_option("--fog", settings.fog_visibility_m, "Ground fog's visibility (RVR), m, with the runway's lights glowing in it")
+      ->check(CLI::Range(50.0, 10000.0));
+  app.add_option("--fog-top", settings.fog_top_m, "Fog top above the airfield, m")->check(CLI::Range(1.0, 3000.0))
+      ->capture_default_str();
+  app.add_option("--cumulus", settings.cumulus_oktas, "A cumulus layer (1200-2500 m over a 6 km square at the airfield) of N oktas")
+      ->check(CLI::Range(1, 8));
   app.add_flag("--no-atmo", no_atmo, "Draw the same frames without the plugin (not loaded)");
   app.add_flag("--window", window, "Interactive window instead of the headless pbuffer");
   app.add_flag("--inject-leak", settings.inject_leak,
@@ -180,6 +194,9 @@ int main(int argc, char** argv) {
     }
   }
 
+  hs::TerrainOptions terrain_options;
+  const hs::Terrain terrain(terrain_options);
+  if (settings.fog_visibility_m > 0.0) settings.lights = terrain.atmo_light_points();
   std::unique_ptr<oh::AtmoBridge> bridge;
   try {
     bridge = std::make_unique<oh::AtmoBridge>(settings);
@@ -256,8 +273,6 @@ int main(int argc, char** argv) {
   scene->setClearMask(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   scene->setAllowEventFocus(false);
 
-  hs::TerrainOptions terrain_options;
-  const hs::Terrain terrain(terrain_options);
   oh::SceneLighting lighting;
   lighting.attach(scene->getOrCreateStateSet());
   osg::ref_ptr<oh::AtmoPassDrawable> sky = new oh::AtmoPassDrawable(bridge.get(), {ATMO_PASS_SKY}, true);
@@ -288,7 +303,7 @@ int main(int argc, char** argv) {
 
   if (window) {
     osg::ref_ptr<osgGA::FirstPersonManipulator> manipulator = new osgGA::FirstPersonManipulator;
-    const osg::Matrixd start = osg::Matrixd::inverse(headless_view(0));
+    const osg::Matrixd start = osg::Matrixd::inverse(headless_view(0, eye_enu, look_deg));
     const osg::Vec3d eye = start.getTrans();
     manipulator->setHomePosition(eye, eye + osg::Vec3d(1, 0, -0.05), osg::Vec3d(0, 0, 1));
     manipulator->setVerticalAxisFixed(true);
@@ -308,7 +323,7 @@ int main(int argc, char** argv) {
     viewer.advance();
     viewer.eventTraversal();
     viewer.updateTraversal();
-    if (!window) master->setViewMatrix(headless_view(i));
+    if (!window) master->setViewMatrix(headless_view(i, eye_enu, look_deg));
     const osg::Matrixd view = master->getViewMatrix(), projection = master->getProjectionMatrix();
     AtmoLighting light = atmo::make<AtmoLighting>(ATMO_TYPE_LIGHTING);
     const bool lit = bridge->begin_frame(static_cast<uint64_t>(i), view, projection, {0, 0, width, height}, &light);
