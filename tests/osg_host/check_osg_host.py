@@ -11,8 +11,10 @@
          and 1 through a program, a fixed-function quad, blending, a quad the depth test hides), drawn by
          OSG after the passes, is bit-identical in every frame with and without the plugin, and shows
          the fixed-function quad's colour and not the hidden quad's.
+  hud_leak: the same comparison can fail: with --inject-leak (front-face culling left on behind
+         osg::State's back after the aerial perspective; the host exits 1) the HUD's pixels differ.
 
-usage: check_osg_host.py image|hud HOST PLUGIN OUT_DIR
+usage: check_osg_host.py image|hud|hud_leak HOST PLUGIN OUT_DIR
 """
 import os
 import re
@@ -49,14 +51,14 @@ def read_netpbm(path):
     return w, h, [px[y * w:(y + 1) * w] for y in range(h)]
 
 
-def render(host, plugin, out, extra):
+def render(host, plugin, out, extra, want_exit=0):
     shutil.rmtree(out, ignore_errors=True)
     cmd = [host, '--plugin', plugin, '--frames', str(FRAMES),
            '--width', str(WIDTH), '--height', str(HEIGHT), '--out', out] + extra
     run = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=240)
     print(run.stdout, end='')
-    if run.returncode != 0:
-        sys.exit(f'{" ".join(cmd)} exited with {run.returncode}')
+    if run.returncode != want_exit:
+        sys.exit(f'{" ".join(cmd)} exited with {run.returncode}, not {want_exit}')
     if not extra and not re.search(r'GL state checks: [1-9]\d* .*, 0 mismatches', run.stdout):
         sys.exit('no state checks were made, or some mismatched')
     return run.stdout
@@ -114,20 +116,24 @@ def check_image(with_atmo, without):
         sys.exit('; '.join(failures))
 
 
-def check_hud(with_atmo, without, log):
+class HudDiffers(Exception):
+    pass
+
+
+def check_hud(with_atmo, without, log, frames=FRAMES):
     m = re.search(r'hud panel: (\d+) (\d+) (\d+) (\d+)', log)
     if not m:
         sys.exit('the host did not say where the HUD panel is')
     x0, y0, w, h = map(int, m.groups())
     total = 0
-    for frame in range(FRAMES):
+    for frame in range(frames):
         _, height, a = read_netpbm(os.path.join(with_atmo, f'frame_{frame:03d}.ppm'))
         _, _, b = read_netpbm(os.path.join(without, f'frame_{frame:03d}.ppm'))
         rows = range(height - y0 - h, height - y0)  # the panel's rows, top row first
         differing = [(x, y) for y in rows for x in range(x0, x0 + w) if a[y][x] != b[y][x]]
         total += w * h
         if differing:
-            sys.exit(f'frame {frame}: {len(differing)} of {w * h} HUD pixels differ with the plugin, e.g. at '
+            raise HudDiffers(f'frame {frame}: {len(differing)} of {w * h} HUD pixels differ with the plugin, e.g. at '
                      f'{differing[0]}: {a[differing[0][1]][differing[0][0]]} against {b[differing[0][1]][differing[0][0]]}')
         # The fixed-function quad (1, 0.8, 0) fills the panel's middle; the hidden green quad is not seen.
         centre = a[height - y0 - h // 2][x0 + w // 2]
@@ -136,23 +142,36 @@ def check_hud(with_atmo, without, log):
             sys.exit(f'frame {frame}: the HUD centre is {centre}, not the fixed-function quad\'s (255, 204, 0)')
         if left[1] == 255 and left[0] == 0:
             sys.exit(f'frame {frame}: the quad behind the panel shows through ({left}): depth test broken')
-    print(f'HUD panel {w}x{h} at ({x0}, {y0}): {total} pixels in {FRAMES} frames bit-identical with and without '
+    print(f'HUD panel {w}x{h} at ({x0}, {y0}): {total} pixels in {frames} frames bit-identical with and without '
           'the plugin')
 
 
 def main():
-    if len(sys.argv) != 5 or sys.argv[1] not in ('image', 'hud'):
+    if len(sys.argv) != 5 or sys.argv[1] not in ('image', 'hud', 'hud_leak'):
         sys.exit(__doc__)
     mode, host, plugin, out = sys.argv[1:]
     if not os.environ.get('DISPLAY'):
         sys.exit('no DISPLAY: run under xvfb-run -a (Debian package xvfb, tools/install-deps.sh)')
     with_atmo, without = os.path.join(out, 'atmo'), os.path.join(out, 'no_atmo')
+    if mode == 'hud_leak':
+        # The host stops after the first frame with a mismatch.
+        log = render(host, plugin, with_atmo, ['--inject-leak'], want_exit=1)
+        render(host, plugin, without, ['--no-atmo'])
+        try:
+            check_hud(with_atmo, without, log, frames=1)
+        except HudDiffers as e:
+            print(f'with the injected leak: {e}')
+            return
+        sys.exit('the HUD did not change with the injected leak: the comparison cannot fail')
     log = render(host, plugin, with_atmo, [])
     render(host, plugin, without, ['--no-atmo'])
-    if mode == 'image':
-        check_image(with_atmo, without)
-    else:
-        check_hud(with_atmo, without, log)
+    try:
+        if mode == 'image':
+            check_image(with_atmo, without)
+        else:
+            check_hud(with_atmo, without, log)
+    except HudDiffers as e:
+        sys.exit(str(e))
 
 
 if __name__ == '__main__':
