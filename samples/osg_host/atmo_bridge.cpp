@@ -182,7 +182,6 @@ void AtmoBridge::draw(osg::RenderInfo& render_info, const std::vector<AtmoPass>&
   const StateSnapshot at_start = snapshot_gl_state(render_info, osg_fbo, osg_fbo);
   // After each [gl-current] call: its GL errors, and GL against osg::State. A difference there when OSG
   // called the drawable, before any plugin call (at_start), is OSG's own; any other is a mismatch.
-  const auto before_call = [&](GLuint) { drain_host_errors(); };
   const auto after_call = [&](const std::string& what, GLuint draw_fbo) {
     ++report_.plugin_calls;
     for (GLenum e = glGetError(); e != GL_NO_ERROR; e = glGetError()) {
@@ -194,7 +193,7 @@ void AtmoBridge::draw(osg::RenderInfo& render_info, const std::vector<AtmoPass>&
   try {
     if (!gl_ready_) {
       gl_context_ = state.getContextID();
-      before_call(osg_fbo);
+      drain_host_errors();
       context_->gl_init();
       gl_ready_ = true;
       after_call("gl_init", osg_fbo);
@@ -221,7 +220,7 @@ void AtmoBridge::draw(osg::RenderInfo& render_info, const std::vector<AtmoPass>&
     }
     for (AtmoPass pass : passes) {
       AtmoResult r = kNotRun;
-      before_call(pass_fbo_);
+      drain_host_errors();
       try {
         r = view_->render(pass);
       } catch (const atmo::Error& e) {

@@ -150,6 +150,7 @@ std::string result_text(const AtmoPluginApi* api, AtmoResult r) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // the report's lines in order with the errors on stderr
   oh::AtmoBridge::Settings settings;
   settings.plugin_path = ATMO_OSG_DEFAULT_PLUGIN;
   settings.origin = {47.4647, 8.5492, 432.0};
@@ -322,9 +323,9 @@ int main(int argc, char** argv) {
 
   if (window) {
     osg::ref_ptr<osgGA::FirstPersonManipulator> manipulator = new osgGA::FirstPersonManipulator;
-    const osg::Matrixd start = osg::Matrixd::inverse(headless_view(0, eye_enu, look_deg));
-    const osg::Vec3d eye = start.getTrans();
-    manipulator->setHomePosition(eye, eye + osg::Vec3d(1, 0, -0.05), osg::Vec3d(0, 0, 1));
+    osg::Vec3d eye, center, up;
+    headless_view(0, eye_enu, look_deg).getLookAt(eye, center, up);
+    manipulator->setHomePosition(eye, center, osg::Vec3d(0, 0, 1));
     manipulator->setVerticalAxisFixed(true);
     viewer.setCameraManipulator(manipulator.get());
   }
