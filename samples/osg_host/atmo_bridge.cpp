@@ -29,17 +29,6 @@ const char* pass_name(int pass) {
 
 namespace {
 
-const char* severity_name(int32_t severity) {
-  switch (severity) {
-    case ATMO_LOG_DEBUG: return "debug";
-    case ATMO_LOG_INFO: return "info";
-    case ATMO_LOG_WARNING: return "warning";
-    case ATMO_LOG_ERROR: return "error";
-    case ATMO_LOG_HOST_MISBEHAVING: return "HOST MISBEHAVING";
-  }
-  return "?";
-}
-
 // The plugin loads GL through OSG's own lookup (glXGetProcAddressARB here).
 void* get_proc_address(void*, const char* name) { return osg::getGLExtensionFuncPtr(name); }
 
@@ -102,10 +91,10 @@ AtmoBridge::~AtmoBridge() {
 void AtmoBridge::log_callback(void* user, int32_t severity, const char* message) {
   auto* self = static_cast<AtmoBridge*>(user);
   if (severity < ATMO_LOG_WARNING) return;
-  std::fprintf(stderr, "[atmo %s] %s\n", severity_name(severity), message ? message : "");
+  std::fprintf(stderr, "[atmo %s] %s\n", atmo::log_severity_name(severity), message ? message : "");
   if (severity >= ATMO_LOG_ERROR) {
     const std::lock_guard<std::recursive_mutex> lock(self->mutex_);
-    self->report_.errors.push_back(std::string("plugin log (") + severity_name(severity) + "): " + (message ? message : ""));
+    self->report_.errors.push_back(std::string("plugin log (") + atmo::log_severity_name(severity) + "): " + (message ? message : ""));
   }
 }
 

@@ -58,17 +58,6 @@ hs::SceneLighting fallback_lighting() {
   return l;
 }
 
-const char* severity_name(int32_t severity) {
-  switch (severity) {
-    case ATMO_LOG_DEBUG: return "debug";
-    case ATMO_LOG_INFO: return "info";
-    case ATMO_LOG_WARNING: return "warning";
-    case ATMO_LOG_ERROR: return "error";
-    case ATMO_LOG_HOST_MISBEHAVING: return "HOST MISBEHAVING";
-  }
-  return "?";
-}
-
 }  // namespace
 
 const char* section_name(int section) {
@@ -111,11 +100,11 @@ SampleRenderer::~SampleRenderer() {
 void SampleRenderer::log_callback(void* user, int32_t severity, const char* message) {
   auto* self = static_cast<SampleRenderer*>(user);
   if (severity >= ATMO_LOG_WARNING || self->verbose_) {
-    std::fprintf(stderr, "[atmo %s] %s\n", severity_name(severity), message ? message : "");
+    std::fprintf(stderr, "[atmo %s] %s\n", atmo::log_severity_name(severity), message ? message : "");
   }
   if (severity >= ATMO_LOG_ERROR) {
     const std::lock_guard<std::mutex> lock(self->log_mutex_);
-    self->logged_errors_.push_back(std::string("log (") + severity_name(severity) + "): " + (message ? message : ""));
+    self->logged_errors_.push_back(std::string("log (") + atmo::log_severity_name(severity) + "): " + (message ? message : ""));
   }
   // The light passes' counts: "frame N, channel C: light points: ..." (abi/entry/fog.cpp). Kept per frame.
   static const char* const kinds[kLightDebugCount] = {"light clusters: ", "fog: ", "light points: "};

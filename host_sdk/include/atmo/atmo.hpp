@@ -41,6 +41,18 @@ T make(AtmoStructType type) {
   return value;
 }
 
+// An AtmoLogSeverity's name, for a host's log lines (AtmoHostServices.log).
+inline const char* log_severity_name(int32_t severity) {
+  switch (severity) {
+    case ATMO_LOG_DEBUG: return "debug";
+    case ATMO_LOG_INFO: return "info";
+    case ATMO_LOG_WARNING: return "warning";
+    case ATMO_LOG_ERROR: return "error";
+    case ATMO_LOG_HOST_MISBEHAVING: return "HOST MISBEHAVING";
+  }
+  return "?";
+}
+
 // An AtmoCloudsState over count layers of this header's AtmoCloudLayer (the
 // stride, layer_size) in the ENU frame at the given geodetic origin (degrees,
 // metres, WGS84); the quality knobs are 0, the plugin's defaults.
