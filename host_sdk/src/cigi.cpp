@@ -386,6 +386,45 @@ std::string hex2(uint8_t b) {
 
 }  // namespace
 
+// The header of the packet at `offset`: its id and size, checked against the
+// datagram (a header that fits, a size of at least the header that does not run
+// past the end). CIGI 3: id and size bytes; 4.0: 16-bit size then id in `order`.
+struct PacketHeader {
+  uint32_t id = kNoPacketId;
+  size_t size = 0;
+  std::optional<DecodeError> error;
+};
+PacketHeader read_packet_header(const uint8_t* data, size_t size, size_t offset, uint8_t major, ByteOrder order) {
+  PacketHeader h;
+  const size_t header = major == 3 ? 2 : 4;
+  const size_t left = size - offset;
+  if (left < header) {
+    h.error = make_error(major, kNoPacketId, offset, "packet header",
+                         std::to_string(left) + " bytes left, a packet header needs " + std::to_string(header));
+    return h;
+  }
+  const uint8_t* p = data + offset;
+  if (major == 3) {
+    h.id = p[0];
+    h.size = p[1];
+  } else {
+    const Reader r(p, order);
+    h.size = r.u16(0);
+    h.id = r.u16(2);
+  }
+  if (h.size == 0) {
+    h.error = make_error(major, h.id, offset, "packet size", "size 0");
+  } else if (h.size < header) {
+    h.error = make_error(major, h.id, offset, "packet size",
+                         "size " + std::to_string(h.size) + " is below the " + std::to_string(header) + "-byte header");
+  } else if (h.size > left) {
+    h.error = make_error(major, h.id, offset, "packet size",
+                         "size " + std::to_string(h.size) + " runs past the datagram's end (" + std::to_string(left) +
+                             " bytes left)");
+  }
+  return h;
+}
+
 const char* packet_name(uint8_t major, uint32_t id) {
   if ((major == 3 && id == v3::kStartOfFrameId) || (major == 4 && id == v4::kStartOfFrameId)) return "Start of Frame";
   switch (kind_of(major, id)) {
@@ -485,37 +524,14 @@ DecodeResult decode(const uint8_t* data, size_t size) {
     return refuse(make_error(0, kNoPacketId, 0, "IG Control", s.str()));
   }
 
-  const size_t header = major == 3 ? 2 : 4;
   bool order_known = major == 4;
   size_t offset = 0;
   while (offset < size) {
-    const size_t left = size - offset;
     const uint8_t* p = data + offset;
-    if (left < header) {
-      return refuse(make_error(major, kNoPacketId, offset, "packet header",
-                               std::to_string(left) + " bytes left, a packet header needs " + std::to_string(header)));
-    }
-    uint32_t id;
-    size_t psize;
-    if (major == 3) {
-      id = p[0];
-      psize = p[1];
-    } else {
-      const Reader h(p, out.byte_order);
-      psize = h.u16(0);
-      id = h.u16(2);
-    }
-    if (psize == 0) return refuse(make_error(major, id, offset, "packet size", "size 0"));
-    if (psize < header) {
-      return refuse(make_error(major, id, offset, "packet size",
-                               "size " + std::to_string(psize) + " is below the " + std::to_string(header) +
-                                   "-byte header"));
-    }
-    if (psize > left) {
-      return refuse(make_error(major, id, offset, "packet size",
-                               "size " + std::to_string(psize) + " runs past the datagram's end (" +
-                                   std::to_string(left) + " bytes left)"));
-    }
+    const PacketHeader h = read_packet_header(data, size, offset, major, out.byte_order);
+    if (h.error) return refuse(*h.error);
+    const uint32_t id = h.id;
+    const size_t psize = h.size;
     const Kind kind = kind_of(major, id);
     if (offset == 0 && kind != Kind::Ig) {
       return refuse(make_error(major, id, offset, "packet id", "the first packet must be an IG Control"));
@@ -894,34 +910,11 @@ IgMessage decode_ig_message(const uint8_t* data, size_t size) {
   sof.last_host_frame_number = r.u32(16);
 
   // The rest of the message (HAT/HOT responses, ...): skipped by size.
-  const size_t header = major == 3 ? 2 : 4;
   for (size_t offset = psize; offset < size;) {
-    const size_t left = size - offset;
-    if (left < header) {
-      return refuse(make_error(major, kNoPacketId, offset, "packet header",
-                               std::to_string(left) + " bytes left, a packet header needs " + std::to_string(header)));
-    }
-    uint32_t pid;
-    size_t n;
-    if (major == 3) {
-      pid = data[offset];
-      n = data[offset + 1];
-    } else {
-      const Reader h(data + offset, out.byte_order);
-      n = h.u16(0);
-      pid = h.u16(2);
-    }
-    if (n == 0) return refuse(make_error(major, pid, offset, "packet size", "size 0"));
-    if (n < header) {
-      return refuse(make_error(major, pid, offset, "packet size",
-                               "size " + std::to_string(n) + " is below the " + std::to_string(header) +
-                                   "-byte header"));
-    }
-    if (n > left) {
-      return refuse(make_error(major, pid, offset, "packet size",
-                               "size " + std::to_string(n) + " runs past the datagram's end (" +
-                                   std::to_string(left) + " bytes left)"));
-    }
+    const PacketHeader h = read_packet_header(data, size, offset, major, out.byte_order);
+    if (h.error) return refuse(*h.error);
+    const uint32_t pid = h.id;
+    const size_t n = h.size;
     if (pid == id) {
       return refuse(make_error(major, pid, offset, "packet id", "a second Start of Frame in one message"));
     }
