@@ -219,25 +219,19 @@ struct Scene {
     EXPECT_EQ(f.plugin->api().get_fog_lighting(f.view->handle(), fl), ATMO_SUCCESS) << f.context->last_error();
     const std::string include =
         read_text(std::string(ATMO_SOURCE_DIR) + "/host_sdk/include/atmo/atmo_fog_lights.glsl");
-    GLuint program = glCreateProgram();
-    GLuint vs = compile(GL_VERTEX_SHADER, kVertex);
-    GLuint fs = compile(GL_FRAGMENT_SHADER, "#version 330 core\n" + include + kPixelRay + main_source);
-    glAttachShader(program, vs);
-    glAttachShader(program, fs);
-    glLinkProgram(program);
-    GLint linked = 0;
-    glGetProgramiv(program, GL_LINK_STATUS, &linked);
-    EXPECT_TRUE(linked);
+    const HostProgram host(kVertex, "#version 330 core\n" + include + kPixelRay + main_source);
+    EXPECT_TRUE(host.linked());
+    const GLuint program = host.id();
     glUseProgram(program);
-    glUniform3fv(glGetUniformLocation(program, "kd"), 1, &kd[0]);
-    glUniform3fv(glGetUniformLocation(program, "ks"), 1, &ks[0]);
-    glUniform1f(glGetUniformLocation(program, "exponent"), exponent);
+    glUniform3fv(host.uniform("kd"), 1, &kd[0]);
+    glUniform3fv(host.uniform("ks"), 1, &ks[0]);
+    glUniform1f(host.uniform("exponent"), exponent);
     const glm::mat4 m(rel_from_clip());
-    glUniformMatrix4fv(glGetUniformLocation(program, "rel_from_clip"), 1, GL_FALSE, glm::value_ptr(m));
-    glUniform1f(glGetUniformLocation(program, "eye_height"), float(kEyeHeightM));
-    glUniform2f(glGetUniformLocation(program, "size"), float(kW), float(kH));
-    glUniform1f(glGetUniformLocation(program, "distance"), distance);
-    glUniform3fv(glGetUniformLocation(program, "own"), 1, &own[0]);
+    glUniformMatrix4fv(host.uniform("rel_from_clip"), 1, GL_FALSE, glm::value_ptr(m));
+    glUniform1f(host.uniform("eye_height"), float(kEyeHeightM));
+    glUniform2f(host.uniform("size"), float(kW), float(kH));
+    glUniform1f(host.uniform("distance"), distance);
+    glUniform3fv(host.uniform("own"), 1, &own[0]);
     atmo::support::Image img;
     {
       const atmo::host_scene::FogLightingBinding binding(program, *fl, 0);
@@ -245,19 +239,10 @@ struct Scene {
       glViewport(0, 0, kW, kH);
       glDisable(GL_BLEND);
       glDisable(GL_DEPTH_TEST);
-      GLuint vao = 0;
-      glGenVertexArrays(1, &vao);
-      glBindVertexArray(vao);
-      glDrawArrays(GL_TRIANGLES, 0, 3);
+      draw_full_screen_triangle();
       glFinish();
       img = target->read_color();
-      glBindVertexArray(0);
-      glDeleteVertexArrays(1, &vao);
     }
-    glUseProgram(0);
-    glDeleteProgram(program);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
     return img;
   }
 };

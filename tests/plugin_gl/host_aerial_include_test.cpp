@@ -56,19 +56,11 @@ TEST(HostAerialInclude, TransparentSurfaceMatchesThePluginsPass) {
   f.view->set(vs);
 
   const glm::vec3 surface(0.3f, 0.5f, 0.2f);
-  const GLuint vs_id = compile(GL_VERTEX_SHADER, kVertex);
   const std::string include = read_text(ATMO_SOURCE_DIR "/host_sdk/include/atmo/atmo_aerial_perspective.glsl");
   ASSERT_FALSE(include.empty());
-  const GLuint fs_id = compile(GL_FRAGMENT_SHADER, "#version 330 core\n" + include + kFragmentMain);
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, vs_id);
-  glAttachShader(program, fs_id);
-  glLinkProgram(program);
-  GLint linked = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &linked);
-  ASSERT_TRUE(linked);
-  GLuint vao = 0;
-  glGenVertexArrays(1, &vao);
+  const HostProgram host(kVertex, "#version 330 core\n" + include + kFragmentMain);
+  ASSERT_TRUE(host.linked());
+  const GLuint program = host.id();
 
   for (float depth : {0.9f, 0.99f, 0.999f, 0.9999f}) {
     SCOPED_TRACE(depth);
@@ -102,8 +94,7 @@ TEST(HostAerialInclude, TransparentSurfaceMatchesThePluginsPass) {
                        &glm::mat4(glm::inverse(proj))[0][0]);
     glUniform1f(glGetUniformLocation(program, "depth"), depth);
     glUniform3f(glGetUniformLocation(program, "surface"), surface.r, surface.g, surface.b);
-    glBindVertexArray(vao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    draw_full_screen_triangle();
     atmo::support::Image got = f.target->read_color();
 
     double worst = 0.0, change = 0.0;
@@ -118,10 +109,6 @@ TEST(HostAerialInclude, TransparentSurfaceMatchesThePluginsPass) {
     EXPECT_GT(change, 1e-3);  // the comparison is not vacuous: the haze is visible
     EXPECT_LT(worst, 1e-4);
   }
-  glDeleteProgram(program);
-  glDeleteShader(vs_id);
-  glDeleteShader(fs_id);
-  glDeleteVertexArrays(1, &vao);
 }
 
 // The clouds' shadow map through get_cloud_shadows and the host include
@@ -178,10 +165,9 @@ TEST(HostCloudShadowInclude, MatchesTheMapAtTheMatrixUv) {
   EXPECT_NEAR(a.y, b.y, 1e-9);
 
   // A host program: each pixel a ground point of a 6 km square, through the include.
-  const GLuint vs_id = compile(GL_VERTEX_SHADER, kVertex);
   const std::string include = read_text(ATMO_SOURCE_DIR "/host_sdk/include/atmo/atmo_cloud_shadow.glsl");
   ASSERT_FALSE(include.empty());
-  const GLuint fs_id = compile(GL_FRAGMENT_SHADER, "#version 330 core\n" + include + R"(
+  const HostProgram host(kVertex, "#version 330 core\n" + include + R"(
 uniform sampler2D shadow_map;
 uniform mat4 uv_from_world;
 uniform vec2 size;
@@ -190,15 +176,8 @@ void main() {
   vec3 world = vec3(-3000.0 + gl_FragCoord.x / size.x * 6000.0, -3000.0 + gl_FragCoord.y / size.y * 6000.0, 0.0);
   colour = vec4(atmo_cloud_shadow(shadow_map, uv_from_world, world), 0.0, 0.0, 1.0);
 })");
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, vs_id);
-  glAttachShader(program, fs_id);
-  glLinkProgram(program);
-  GLint linked = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &linked);
-  ASSERT_TRUE(linked);
-  GLuint vao = 0;
-  glGenVertexArrays(1, &vao);
+  ASSERT_TRUE(host.linked());
+  const GLuint program = host.id();
   f.target->bind();
   glUseProgram(program);
   glm::mat4 uvf(uv_from_world);
@@ -207,8 +186,7 @@ void main() {
   glUniform1i(glGetUniformLocation(program, "shadow_map"), 0);
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, m.texture);
-  glBindVertexArray(vao);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
+  draw_full_screen_triangle();
   glFinish();
   const atmo::support::Image got = f.target->read_color();
   double worst = 0.0;
@@ -236,8 +214,4 @@ void main() {
               plugin_gl::kWidth * plugin_gl::kHeight, shadowed);
   EXPECT_GT(shadowed, 0);
   EXPECT_LT(worst, 5e-3);
-  glDeleteProgram(program);
-  glDeleteShader(vs_id);
-  glDeleteShader(fs_id);
-  glDeleteVertexArrays(1, &vao);
 }

@@ -321,47 +321,31 @@ struct Scene {
   std::vector<std::vector<float>> draw(const AtmoSkyOcclusion& o) {
     const std::string include = read_text(std::string(ATMO_SOURCE_DIR) + "/host_sdk/include/atmo/atmo_sky_occlusion.glsl");
     EXPECT_FALSE(include.empty());
-    GLuint program = glCreateProgram();
-    GLuint vs = compile(GL_VERTEX_SHADER, kVertex);
-    GLuint fs = compile(GL_FRAGMENT_SHADER, "#version 330 core\n" + include + kFragmentMain);
-    glAttachShader(program, vs);
-    glAttachShader(program, fs);
-    glLinkProgram(program);
-    GLint linked = 0;
-    glGetProgramiv(program, GL_LINK_STATUS, &linked);
-    EXPECT_TRUE(linked);
-    glUseProgram(program);
+    const HostProgram host(kVertex, "#version 330 core\n" + include + kFragmentMain);
+    EXPECT_TRUE(host.linked());
+    glUseProgram(host.id());
     const glm::mat4 m(rel_from_clip());
-    glUniformMatrix4fv(glGetUniformLocation(program, "rel_from_clip"), 1, GL_FALSE, glm::value_ptr(m));
-    glUniform2f(glGetUniformLocation(program, "size"), float(kW), float(kH));
-    glUniform1f(glGetUniformLocation(program, "eye_height"), float(kEyeHeightM));
-    glUniform3f(glGetUniformLocation(program, "wall"), float(kWallNorthM), float(kWallHalfWidthM), float(kWallTopM));
-    glUniform1f(glGetUniformLocation(program, "far_m"), float(kFarM));
+    glUniformMatrix4fv(host.uniform("rel_from_clip"), 1, GL_FALSE, glm::value_ptr(m));
+    glUniform2f(host.uniform("size"), float(kW), float(kH));
+    glUniform1f(host.uniform("eye_height"), float(kEyeHeightM));
+    glUniform3f(host.uniform("wall"), float(kWallNorthM), float(kWallHalfWidthM), float(kWallTopM));
+    glUniform1f(host.uniform("far_m"), float(kFarM));
     std::vector<std::vector<float>> out;
     {
       Targets targets;  // first: it binds its textures on unit 0
-      const atmo::host_scene::SkyOcclusionBinding binding(program, o, 0);  // as a host binds them
+      const atmo::host_scene::SkyOcclusionBinding binding(host.id(), o, 0);  // as a host binds them
       glViewport(0, 0, kW, kH);
       glDisable(GL_BLEND);
       glDisable(GL_DEPTH_TEST);
-      GLuint vao = 0;
-      glGenVertexArrays(1, &vao);
-      glBindVertexArray(vao);
-      glDrawArrays(GL_TRIANGLES, 0, 3);
+      draw_full_screen_triangle();
       glFinish();
       for (int i = 0; i < 3; ++i) out.push_back(targets.read(i));
-      glBindVertexArray(0);
-      glDeleteVertexArrays(1, &vao);
     }
     for (int i = 0; i < 5; ++i) {
       glActiveTexture(GL_TEXTURE0 + i);
       glBindTexture(GL_TEXTURE_2D, 0);
     }
     glActiveTexture(GL_TEXTURE0);
-    glUseProgram(0);
-    glDeleteProgram(program);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
     return out;
   }
 };

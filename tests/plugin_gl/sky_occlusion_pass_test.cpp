@@ -211,40 +211,24 @@ std::vector<float> Pass::host_answers(bool image, const AtmoSkyOcclusion& o, int
   const std::string include = read_text(std::string(ATMO_SOURCE_DIR) + "/host_sdk/include/atmo/atmo_sky_occlusion.glsl");
   const std::string vertex = "#version 330 core\nvoid main() { vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);"
                              " gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0); }\n";
-  GLuint vs = compile(GL_VERTEX_SHADER, vertex);
-  GLuint fs = compile(GL_FRAGMENT_SHADER, "#version " + std::to_string(glsl_version) + " core\n" +
-                                              (image ? "#define ATMO_OCC_IMAGE\n" : "") + include + kHostMain);
-  GLuint program = glCreateProgram();
-  glAttachShader(program, vs);
-  glAttachShader(program, fs);
-  glLinkProgram(program);
-  GLint linked = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &linked);
-  EXPECT_TRUE(linked);
   std::vector<float> rgba(static_cast<size_t>(kW) * kH * 4);
   {
+    const HostProgram host(vertex, "#version " + std::to_string(glsl_version) + " core\n" +
+                                       (image ? "#define ATMO_OCC_IMAGE\n" : "") + include + kHostMain);
+    EXPECT_TRUE(host.linked());
     big->bind();
     glViewport(0, 0, kW, kH);
     glClearColor(0, 0, 0, 0);
     glClear(GL_COLOR_BUFFER_BIT);
-    glUseProgram(program);
+    glUseProgram(host.id());
     const glm::mat4 m(glm::inverse(projection * view_from_world));
-    glUniformMatrix4fv(glGetUniformLocation(program, "rel_from_clip"), 1, GL_FALSE, glm::value_ptr(m));
-    glUniform2f(glGetUniformLocation(program, "size"), float(kW), float(kH));
-    glUniform1f(glGetUniformLocation(program, "eye_height"), float(kEyeHeightM));
-    const atmo::host_scene::SkyOcclusionBinding binding(program, o, 0);
-    GLuint vao = 0;
-    glGenVertexArrays(1, &vao);
-    glBindVertexArray(vao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glUniformMatrix4fv(host.uniform("rel_from_clip"), 1, GL_FALSE, glm::value_ptr(m));
+    glUniform2f(host.uniform("size"), float(kW), float(kH));
+    glUniform1f(host.uniform("eye_height"), float(kEyeHeightM));
+    const atmo::host_scene::SkyOcclusionBinding binding(host.id(), o, 0);
+    draw_full_screen_triangle();
     glReadPixels(0, 0, kW, kH, GL_RGBA, GL_FLOAT, rgba.data());
-    glBindVertexArray(0);
-    glDeleteVertexArrays(1, &vao);
   }
-  glUseProgram(0);
-  glDeleteProgram(program);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
   EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
   return rgba;
 }
