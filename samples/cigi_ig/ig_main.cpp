@@ -200,7 +200,7 @@ std::string state_json(uint32_t ig_frame, const cigi::DecodeResult& d, const cig
 int main(int argc, char** argv) {
   Options o;
   CLI::App app{"Atmo's CIGI sample IG: renders the environment of a CIGI 3.3 / 4.0 host's messages (UDP) and "
-               "answers each host frame with a CIGI 3.3 Start of Frame."};
+               "answers each host frame with a Start of Frame of the host's CIGI version."};
   app.add_option("--bind", o.bind, "IPv4 address to listen on")->capture_default_str();
   app.add_option("--port", o.port, "UDP port to listen on; 0: an ephemeral one (printed)")->capture_default_str();
   app.add_option("--port-file", o.port_file, "Write the port here once the IG is ready (for tests)");
