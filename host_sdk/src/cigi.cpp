@@ -386,6 +386,29 @@ std::string hex2(uint8_t b) {
 
 }  // namespace
 
+// CIGI 3's byte-swap magic at bytes 6-7 of an IG Control or a Start of Frame: the sender writes 0x8000 in its
+// own byte order. Nothing for neither order.
+std::optional<ByteOrder> swap_magic_order(const uint8_t* p) {
+  if (p[6] == 0x80 && p[7] == 0x00) return ByteOrder::Big;
+  if (p[6] == 0x00 && p[7] == 0x80) return ByteOrder::Little;
+  return std::nullopt;
+}
+DecodeError bad_swap_magic(uint32_t id, size_t offset, const uint8_t* p) {
+  return make_error(3, id, offset, "byte-swap magic",
+                    "bytes " + hex2(p[6]) + " " + hex2(p[7]) +
+                        " are neither 0x80 0x00 (big-endian) nor 0x00 0x80 (little-endian)");
+}
+
+// A CIGI 4.0 message's first packet, `size_field` bytes with id `id`: its 16-bit size comes first, and "a zero
+// in the leftmost byte" means big-endian (CCL 4.0 CigiIGCtrlV4::Unpack; the Wireshark fork's cigi4_add_tree).
+// The id's two bytes are the same in either order for the ids it is used with (0 and 0xFFFF).
+std::optional<ByteOrder> v4_first_packet_order(const uint8_t* data, size_t size, uint16_t size_field, uint16_t id) {
+  if (size < 4 || data[2] != uint8_t(id >> 8) || data[3] != uint8_t(id)) return std::nullopt;
+  if (data[0] == 0 && data[1] == size_field) return ByteOrder::Big;
+  if (data[0] == size_field && data[1] == 0) return ByteOrder::Little;
+  return std::nullopt;
+}
+
 // The header of the packet at `offset`: its id and size, checked against the
 // datagram (a header that fits, a size of at least the header that does not run
 // past the end). CIGI 3: id and size bytes; 4.0: 16-bit size then id in `order`.
@@ -505,13 +528,11 @@ DecodeResult decode(const uint8_t* data, size_t size) {
       return refuse(make_error(3, v3::kIgControlId, 0, "major version",
                                "version " + std::to_string(data[2]) + "; only CIGI 3 (3.2, 3.3) and 4.0 are decoded"));
     }
-  } else if (size >= 5 && data[2] == 0 && data[3] == 0 &&
-             ((data[0] == v4::kIgControlSize && data[1] == 0) || (data[0] == 0 && data[1] == v4::kIgControlSize))) {
-    // CIGI 4.0: "a zero in the leftmost byte" of the size: big-endian (CCL 4.0
-    // CigiIGCtrlV4::Unpack; the Wireshark fork's cigi4_add_tree).
+  } else if (const auto order = v4_first_packet_order(data, size, v4::kIgControlSize, v4::kIgControlId);
+             order && size >= 5) {
     major = 4;
     out.version.major = 4;
-    out.byte_order = data[0] == 0 ? ByteOrder::Big : ByteOrder::Little;
+    out.byte_order = *order;
     if (data[4] != 4) {
       return refuse(make_error(4, v4::kIgControlId, 0, "major version",
                                "version " + std::to_string(data[4]) + "; only CIGI 3 (3.2, 3.3) and 4.0 are decoded"));
@@ -555,17 +576,9 @@ DecodeResult decode(const uint8_t* data, size_t size) {
       return refuse(make_error(major, id, offset, "packet size", why));
     }
     if (major == 3 && kind == Kind::Ig) {
-      // CIGI 3: the sender writes 0x8000 in its own byte order.
-      ByteOrder order;
-      if (p[6] == 0x80 && p[7] == 0x00) {
-        order = ByteOrder::Big;
-      } else if (p[6] == 0x00 && p[7] == 0x80) {
-        order = ByteOrder::Little;
-      } else {
-        return refuse(make_error(major, id, offset, "byte-swap magic",
-                                 "bytes " + hex2(p[6]) + " " + hex2(p[7]) + " are neither 0x80 0x00 (big-endian) "
-                                 "nor 0x00 0x80 (little-endian)"));
-      }
+      const std::optional<ByteOrder> magic = swap_magic_order(p);
+      if (!magic) return refuse(bad_swap_magic(id, offset, p));
+      const ByteOrder order = *magic;
       if (order_known && order != out.byte_order) {
         return refuse(make_error(major, id, offset, "byte-swap magic", "the byte order changed within the datagram"));
       }
@@ -847,10 +860,9 @@ IgMessage decode_ig_message(const uint8_t* data, size_t size) {
   uint8_t major = 0;
   if (size >= 2 && data[0] == v3::kStartOfFrameId) {
     major = 3;
-  } else if (size >= 4 && data[2] == 0xFF && data[3] == 0xFF &&
-             ((data[0] == 0 && data[1] == v4::kStartOfFrameSize) || (data[0] == v4::kStartOfFrameSize && data[1] == 0))) {
+  } else if (const auto order = v4_first_packet_order(data, size, v4::kStartOfFrameSize, v4::kStartOfFrameId)) {
     major = 4;
-    out.byte_order = data[0] == 0 ? ByteOrder::Big : ByteOrder::Little;
+    out.byte_order = *order;
   } else {
     std::ostringstream s;
     s << "the first packet of an IG message must be a Start of Frame (CIGI 3: id 101; CIGI 4.0: size 24, id "
@@ -885,15 +897,9 @@ IgMessage decode_ig_message(const uint8_t* data, size_t size) {
                                  (major == 3 ? " in a CIGI 3 Start of Frame" : " in a CIGI 4.0 Start of Frame")));
   }
   if (major == 3) {
-    if (data[6] == 0x80 && data[7] == 0x00) {
-      out.byte_order = ByteOrder::Big;
-    } else if (data[6] == 0x00 && data[7] == 0x80) {
-      out.byte_order = ByteOrder::Little;
-    } else {
-      return refuse(make_error(3, id, 0, "byte-swap magic",
-                               "bytes " + hex2(data[6]) + " " + hex2(data[7]) +
-                                   " are neither 0x80 0x00 (big-endian) nor 0x00 0x80 (little-endian)"));
-    }
+    const std::optional<ByteOrder> magic = swap_magic_order(data);
+    if (!magic) return refuse(bad_swap_magic(id, 0, data));
+    out.byte_order = *magic;
   }
   const Reader r(data, out.byte_order);
   StartOfFrame& sof = out.sof;
