@@ -11,7 +11,6 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -19,8 +18,6 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
-#include <dlfcn.h>
-#include <link.h>
 #include <osg/GLExtensions>
 #include <osg/Texture2D>
 #include <osgDB/WriteFile>
@@ -28,6 +25,7 @@
 #include <osgViewer/Viewer>
 
 #include "atmo_bridge.h"
+#include "atmo_support/headless_gl.h"
 #include "core/astro/iso8601.h"
 #include "scene.h"
 
@@ -124,22 +122,6 @@ osg::ref_ptr<osg::Texture2D> target_texture(int width, int height, GLint interna
   t->setWrap(osg::Texture::WRAP_T, osg::Texture::CLAMP_TO_EDGE);
   return t;
 }
-
-#if defined(__SANITIZE_ADDRESS__)
-// Mesa unloads its DRI driver when OSG closes the X display at exit; LeakSanitizer's report of the
-// driver's own allocations then names no module, and tests/lsan.supp's swrast_dri cannot match it. Kept
-// loaded (RTLD_NODELETE) in sanitizer builds only.
-void keep_gl_driver_loaded() {
-  dl_iterate_phdr(
-      [](dl_phdr_info* info, size_t, void*) {
-        if (info->dlpi_name && std::strstr(info->dlpi_name, "_dri.so")) dlopen(info->dlpi_name, RTLD_LAZY | RTLD_NOLOAD | RTLD_NODELETE);
-        return 0;
-      },
-      nullptr);
-}
-#else
-void keep_gl_driver_loaded() {}
-#endif
 
 std::string result_text(const AtmoPluginApi* api, AtmoResult r) {
   if (r == oh::kNotRun) return "not run";
@@ -334,7 +316,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "atmo-osg-host: the viewer could not be realised\n");
     return 2;
   }
-  keep_gl_driver_loaded();
+  // Mesa would unload its driver when OSG closes the X display at exit, and LeakSanitizer could not name the
+  // module of the driver's one-time allocations: keep it mapped (harmless without the sanitizers).
+  atmo::support::pin_gl_drivers();
   std::printf("%dx%d, %s, %s; hud panel: %d %d %d %d (x y width height from the lower left)\n", width, height,
               window ? "window" : "GLX pbuffer", no_atmo ? "without the plugin" : "with the plugin", panel[0], panel[1],
               panel[2], panel[3]);
