@@ -405,6 +405,7 @@ class Importer {
   void time_of_day(pugi::xml_node environment) {
     const pugi::xml_node t = environment.child("TimeOfDay");
     std::string utc = kImportDefaultUtc;
+    std::optional<double> posix;
     if (!t) {
       note(environment, std::string("no TimeOfDay: ") + kImportDefaultUtc + " is shown");
     } else {
@@ -421,7 +422,7 @@ class Importer {
         note(t, "dateTime " + in_quotes(raw) + " has no time zone: taken as UTC");
       }
       std::string why;
-      const auto posix = parse_iso8601_utc(utc, &why);
+      posix = parse_iso8601_utc(utc, &why);
       if (!posix) {
         const std::string echo = "'" + utc + "': ";  // the parser quotes the text; found "..." shows it already
         if (why.rfind(echo, 0) == 0) why.erase(0, echo.size());
@@ -429,7 +430,8 @@ class Importer {
                    raw, utc);
       }
     }
-    s_->utc_posix_s = *parse_iso8601_utc(utc, nullptr);
+    if (!posix) posix = parse_iso8601_utc(utc, nullptr);  // the default (fail_value does not return)
+    s_->utc_posix_s = *posix;
     s_->utc = format_iso8601_utc(s_->utc_posix_s);
   }
 
